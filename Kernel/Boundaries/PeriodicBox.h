@@ -1,0 +1,57 @@
+// The simulation domain: an axis-aligned box [lo, hi], periodic along any subset of x, y, z.
+// The box may deform every step (element tests drive it); the neighbour list is told how much
+// each periodic length changed since its last build, so images stay correct.
+#pragma once
+#include <array>
+#include <iosfwd>
+
+#include "Math/Vec3.h"
+
+namespace pdpm {
+
+struct ParticleData;
+
+class PeriodicBox {
+public:
+    void set(const Vec3& lo, const Vec3& hi, bool px, bool py, bool pz);
+    const Vec3& lo() const { return lo_; }
+    const Vec3& hi() const { return hi_; }
+    Vec3 length() const { return hi_ - lo_; }
+    bool periodic(int axis) const { return periodic_[axis]; }
+    bool anyPeriodic() const { return periodic_[0] || periodic_[1] || periodic_[2]; }
+    double volume() const { const Vec3 l = length(); return l.x * l.y * l.z; }
+
+    /// Move the bounds of one axis to [newLo, newHi]. With `remap`, particle positions along that
+    /// axis are mapped affinely from the old to the new interval (velocities are not changed).
+    void setAxis(int axis, double newLo, double newHi, ParticleData* remap = nullptr);
+    /// Scale every axis about the box centre by factors s (affine remap of particles if given).
+    void scaleAboutCentre(const Vec3& s, ParticleData* remap = nullptr);
+
+    /// Replace a separation vector by its minimum image along periodic axes. Valid for separations
+    /// shorter than 1.5 box lengths (particles are wrapped at every neighbour-list build).
+    inline void minimumImage(Vec3& d) const {
+        for (int a = 0; a < 3; ++a) {
+            if (!periodic_[a]) continue;
+            double& c = d[a];
+            if (c > half_[a]) c -= len_[a];
+            else if (c < -half_[a]) c += len_[a];
+        }
+    }
+    /// Wrap a position into [lo, hi) along periodic axes.
+    void wrap(Vec3& x) const;
+
+    /// Sum of |change| of each periodic length since the last call of resetChange().
+    double lengthChange(int axis) const { return change_[axis]; }
+    void resetChange() { change_ = {0, 0, 0}; }
+    void write(std::ostream& os) const;
+    void read(std::istream& is);
+
+private:
+    void updateCache();
+    Vec3 lo_{0, 0, 0}, hi_{1, 1, 1};
+    std::array<bool, 3> periodic_{false, false, false};
+    std::array<double, 3> len_{1, 1, 1}, half_{0.5, 0.5, 0.5};
+    std::array<double, 3> change_{0, 0, 0};
+};
+
+} // namespace pdpm

@@ -1,0 +1,227 @@
+// A contact law composed of parts (normal N, tangential T, rolling R, torsion O). The loops over
+// particle pairs and wall contacts are instantiated per composition so every part inlines.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "Boundaries/PeriodicBox.h"
+#include "Contacts/ContactLaw.h"
+#include "Contacts/TangentialLaws.h"
+#include "Particles/ParticleData.h"
+#include "Walls/Wall.h"
+
+namespace pdpm {
+
+template <class N, class T, class R, class O>
+class ComposedLaw final : public ContactLaw {
+public:
+    static constexpr int H = N::H + T::H + R::H + O::H;
+    static constexpr bool kTangential = T::H > 0 || R::H > 0 || O::H > 0;
+
+    explicit ComposedLaw(std::string name) : name_(std::move(name)) {}
+    std::string name() const override { return name_; }
+    int historySize() const override { return H; }
+    void validate(const ContactParameters& p, const std::string& who) const override {
+        N::validate(p, who);
+        T::validate(p, who);
+        R::validate(p, who);
+        O::validate(p, who);
+    }
+    double stiffness(const ContactParameters& p, double rEff) const override {
+        return std::max({N::stiffness(p, rEff), T::stiffness(p, rEff), R::stiffness(p, rEff), O::stiffness(p, rEff)});
+    }
+    double normalDamping(const ContactParameters& p) const override { return N::damping(p); }
+
+    static inline void eval(const ContactParameters& p, const ContactState& s, double* h, ContactOutput& o) {
+        N::apply(p, s, h, o);
+        T::apply(p, s, h + N::H, o);
+        R::apply(p, s, h + N::H + T::H, o);
+        O::apply(p, s, h + N::H + T::H + R::H, o);
+    }
+    void evaluate(const ContactParameters& p, const ContactState& s, double* h, ContactOutput& o) const override {
+        eval(p, s, h, o);
+    }
+
+    void computePairForces(ForceContext& c) const override {
+        ParticleData& P = c.particles;
+        NeighbourList& nl = c.neighbours;
+        const Vec3* x = P.x.data();
+        const Vec3* v = P.v.data();
+        const Vec3* w = P.w.data();
+        const double* r = P.r.data();
+        const double* invM = P.invM.data();
+        const double* m = P.m.data();
+        const int32_t* sp = P.species.data();
+        Vec3* f = P.f.data();
+        Vec3* t = P.t.data();
+        const uint32_t* pi = nl.pairI.data();
+        const uint32_t* pj = nl.pairJ.data();
+        double* hist = nl.history.data();
+        const std::size_t* slabStart = nl.slabStart.data();
+        const PeriodicBox& box = c.box;
+        const SpeciesTable& spt = c.species;
+        const bool single = spt.size() == 1;
+        const ContactParameters& p0 = spt.pair(0, 0);
+        const double dt = c.dt, time = c.time;
+        const bool record = c.record;
+        for (const auto& phase : nl.phases) {
+            const int nPhase = static_cast<int>(phase.size());
+#pragma omp parallel for schedule(dynamic, 1)
+            for (int q = 0; q < nPhase; ++q) {
+                const int s = phase[q];
+                double energy = 0;
+                std::vector<ContactRecord>* rec = record ? &(*c.records)[s] : nullptr;
+                if (rec) rec->clear();
+                for (std::size_t k = slabStart[s]; k < slabStart[s + 1]; ++k) {
+                    const uint32_t i = pi[k], j = pj[k];
+                    Vec3 d = x[i] - x[j];
+                    box.minimumImage(d);
+                    const double rs = r[i] + r[j];
+                    const double d2 = norm2(d);
+                    double* h = hist + k * H;
+                    if (d2 >= rs * rs) {
+                        if constexpr (H > 0) std::fill_n(h, H, 0.0);
+                        continue;
+                    }
+                    const double dist = std::sqrt(d2);
+                    ContactState st;
+                    st.n = d * (1.0 / dist);
+                    st.overlap = rs - dist;
+                    const Vec3 vrel = v[i] - v[j];
+                    st.overlapRate = -dot(vrel, st.n);
+                    st.dt = dt;
+                    st.time = time;
+                    const double ai = r[i] - 0.5 * st.overlap, aj = r[j] - 0.5 * st.overlap;
+                    const double sumInv = invM[i] + invM[j];
+                    st.mEff = sumInv > 0 ? 1.0 / sumInv : reducedMass(m[i], m[j]);
+                    st.rEff = r[i] * r[j] / rs;
+                    if constexpr (kTangential) {
+                        const Vec3 vc = vrel - ai * cross(w[i], st.n) - aj * cross(w[j], st.n);
+                        st.vt = vc - dot(vc, st.n) * st.n;
+                        st.wRel = w[i] - w[j];
+                    }
+                    const ContactParameters& p = single ? p0 : spt.pair(sp[i], sp[j]);
+                    ContactOutput o;
+                    eval(p, st, h, o);
+                    const Vec3 F = o.fn * st.n + o.ft;
+                    f[i] += F;
+                    f[j] -= F;
+                    if constexpr (kTangential) {
+                        const Vec3 nxft = cross(st.n, o.ft);
+                        t[i] += o.torqueRT - ai * nxft;
+                        t[j] -= o.torqueRT + aj * nxft;
+                    }
+                    if (record) {
+                        energy += o.energy;
+                        ContactRecord cr;
+                        cr.i = static_cast<int>(i);
+                        cr.j = static_cast<int>(j);
+                        cr.point = x[i] - ai * st.n;
+                        cr.overlap = st.overlap;
+                        cr.n = st.n;
+                        cr.fn = o.fn;
+                        cr.ft = o.ft;
+                        cr.branch = d;
+                        cr.sliding = o.sliding;
+                        cr.energy = o.energy;
+                        rec->push_back(cr);
+                    }
+                }
+                if (record) (*c.energy)[s] = energy;
+            }
+        }
+    }
+
+    void computeWallForces(ForceContext& c) const override {
+        ParticleData& P = c.particles;
+        NeighbourList& nl = c.neighbours;
+        const std::size_t nw = c.walls.size();
+        std::vector<ContactRecord>* rec = c.record ? &c.records->back() : nullptr;
+        if (rec) rec->clear();
+        double energyTotal = 0;
+        for (std::size_t wi = 0; wi < nw; ++wi) {
+            const Wall& wall = *c.walls[wi];
+            const std::size_t b = nl.wallStart[wi], e = nl.wallStart[wi + 1];
+            const long cnt = static_cast<long>(e - b);
+            Vec3* wf = c.wallForce->data();
+            Vec3* wt = c.wallTorque->data();
+            const Vec3 ref = wall.referencePoint();
+#pragma omp parallel for schedule(static)
+            for (long q = 0; q < cnt; ++q) {
+                const std::size_t k = b + q;
+                const uint32_t i = nl.wallParticle[k];
+                double* h = nl.wallHistory.data() + k * H;
+                ContactState st;
+                const double dist = wall.distance(P.x[i], st.n);
+                st.overlap = P.r[i] - dist;
+                if (!(st.overlap > 0)) {
+                    if constexpr (H > 0) std::fill_n(h, H, 0.0);
+                    wf[k] = {};
+                    wt[k] = {};
+                    continue;
+                }
+                const double ai = P.r[i] - 0.5 * st.overlap;
+                const Vec3 cp = P.x[i] - ai * st.n;
+                const Vec3 vrel = P.v[i] - wall.surfaceVelocity(cp);
+                st.overlapRate = -dot(vrel, st.n);
+                st.dt = c.dt;
+                st.time = c.time;
+                st.mEff = P.m[i];
+                st.rEff = P.r[i];
+                if constexpr (kTangential) {
+                    const Vec3 vc = vrel - ai * cross(P.w[i], st.n);
+                    st.vt = vc - dot(vc, st.n) * st.n;
+                    st.wRel = P.w[i];
+                }
+                ContactOutput o;
+                eval(c.species.pair(P.species[i], wall.species), st, h, o);
+                const Vec3 F = o.fn * st.n + o.ft;
+                P.f[i] += F;
+                if constexpr (kTangential) P.t[i] += o.torqueRT - ai * cross(st.n, o.ft);
+                wf[k] = -F;
+                wt[k] = cross(cp - ref, -F) - o.torqueRT;
+                if (c.record) {
+                    (*c.wallEnergy)[k] = o.energy;
+                    (*c.wallSliding)[k] = o.sliding ? 1 : 0;
+                }
+            }
+            // Wall reactions and records, in list order (deterministic).
+            Vec3 fsum, tsum;
+            for (std::size_t k = b; k < e; ++k) {
+                fsum += wf[k];
+                tsum += wt[k];
+            }
+            c.walls[wi]->force = fsum;
+            c.walls[wi]->torque = tsum;
+            if (rec) {
+                for (std::size_t k = b; k < e; ++k) {
+                    if (wf[k] == Vec3{}) continue;
+                    const uint32_t i = nl.wallParticle[k];
+                    ContactRecord cr;
+                    Vec3 n;
+                    const double dist = wall.distance(P.x[i], n);
+                    cr.i = static_cast<int>(i);
+                    cr.j = -1 - static_cast<int>(wi);
+                    cr.overlap = P.r[i] - dist;
+                    cr.n = n;
+                    cr.point = P.x[i] - (P.r[i] - 0.5 * cr.overlap) * n;
+                    const Vec3 F = -wf[k];
+                    cr.fn = dot(F, n);
+                    cr.ft = F - cr.fn * n;
+                    cr.branch = P.x[i] - cr.point;
+                    cr.sliding = (*c.wallSliding)[k] != 0;
+                    cr.energy = (*c.wallEnergy)[k];
+                    energyTotal += cr.energy;
+                    rec->push_back(cr);
+                }
+            }
+        }
+        if (c.record) c.energy->back() = energyTotal;
+    }
+
+private:
+    std::string name_;
+};
+
+} // namespace pdpm

@@ -1,0 +1,455 @@
+#include "Core/DPMBase.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "Core/Error.h"
+#include "Core/RunMain.h"
+#include "IO/AtomicFile.h"
+#include "IO/NumberFormat.h"
+#include "IO/SnapshotWriter.h"
+#include "Math/DeterministicSum.h"
+
+namespace pdpm {
+
+DPMBase::DPMBase(std::string name, std::string description)
+    : name_(std::move(name)), description_(std::move(description)), runName_(name_) {
+    params_.add("time_max", &timeMax_, 0.0, "s", "simulated time at which the run ends", Range::nonNegative());
+    params_.add("dt", &dt_, 0.0, "s", "time step (0: t_c/50 of the fastest pair)", Range::nonNegative());
+    params_.add("save_every", &saveEvery_, 0.0, "s", "time between outputs (0: 100 outputs per run)", Range::nonNegative());
+    params_.add("contact_law", &lawName_, "linear", "contact law, registered by name (see Documentation/contact-laws.md)",
+                [] {
+                    std::vector<std::string> n;
+                    for (auto& [k, d] : contactLawNames()) n.push_back(k);
+                    return n;
+                }());
+    params_.add("vtk", &vtkOutput_, true, "write RUN_NNNN.vtu particle snapshots for ParaView");
+    params_.add("fstat", &fstatOutput_, false, "write RUN.fstat with every contact at each output");
+    params_.add("restart_output", &restartOutput_, true, "write RUN.restart at each output");
+    params_.add("ene", &eneOutput_, true, "write RUN.ene energies at each output");
+    params_.add("seed", &seed_, 12345L, "-", "seed of the random number generator", Range::nonNegative());
+    params_.add("max_initial_overlap", &maxInitialOverlap_, 0.1, "-",
+                "largest initial overlap allowed, as a fraction of the smaller radius", Range::closed(0, 1));
+    params_.add("skin", &skinParameter_, 0.0, "m", "neighbour-list skin (0: 10 % of the smallest radius)", Range::nonNegative());
+    law_ = makeContactLaw(lawName_);
+}
+
+DPMBase::~DPMBase() = default;
+
+void DPMBase::setContactLaw(const std::string& name) {
+    params_.set("contact_law", name);
+    law_ = makeContactLaw(name);
+    neighbours_.invalidate();
+}
+
+int DPMBase::addSpecies(const std::string& name, double density, const ContactParameters& self) {
+    return species_.add(name, density, self);
+}
+
+std::size_t DPMBase::addParticle(const Vec3& x, double radius, int s, const Vec3& v, const Vec3& w, bool fixed) {
+    if (!(radius > 0) || !std::isfinite(radius))
+        inputError("particle radius must be > 0 (got " + fmt(radius) + ")");
+    if (s < 0 || s >= species_.size()) inputError("particle species index " + std::to_string(s) + " is not defined");
+    if (!isFinite(x) || !isFinite(v) || !isFinite(w)) inputError("particle position/velocity must be finite");
+    neighbours_.invalidate();
+    return particles_.add(x, radius, species_[s].density, s, v, w, fixed);
+}
+
+std::size_t DPMBase::addWall(std::unique_ptr<Wall> w) {
+    if (w->species < 0 || w->species >= species_.size())
+        inputError("wall species index " + std::to_string(w->species) + " is not defined");
+    walls_.push_back(std::move(w));
+    neighbours_.invalidate();
+    return walls_.size() - 1;
+}
+
+void DPMBase::setOutput(const std::string& dir, const std::string& runName) {
+    outDir_ = dir.empty() ? "." : dir;
+    runName_ = runName.empty() ? name_ : runName;
+}
+
+std::string DPMBase::outputPath(const std::string& suffix) const {
+    return (std::filesystem::path(outDir_) / (runName_ + suffix)).string();
+}
+
+// ---- command line -----------------------------------------------------------------------------------
+int DPMBase::run(int argc, char** argv) {
+    return runMain(name_.c_str(), [&]() -> int {
+        options_ = parseCommandLine(argc, argv, params_);
+        if (options_.help) {
+            params_.printHelp(std::cout, name_, description_);
+            return 0;
+        }
+        if (options_.threads > 0) omp_set_num_threads(options_.threads);
+        quiet_ = options_.quiet;
+        setOutput(options_.output, options_.name);
+        law_ = makeContactLaw(lawName_);
+        rng_.seed(static_cast<uint64_t>(seed_));
+        if (!options_.restart.empty()) {
+            readRestart(options_.restart);
+            actionsOnRestart();
+            prepare(false);
+        } else {
+            setupInitialConditions();
+            prepare(true);
+        }
+        solve();
+        return 0;
+    });
+}
+
+double DPMBase::minCollisionTime() const {
+    if (particles_.empty()) return 0;
+    // For each species present: smallest particle; pairs of smallest particles are the fastest.
+    const int ns = species_.size();
+    std::vector<double> rmin(ns, 1e300), mmin(ns, 1e300);
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+        const int s = particles_.species[i];
+        rmin[s] = std::min(rmin[s], particles_.r[i]);
+        mmin[s] = std::min(mmin[s], particles_.m[i]);
+    }
+    double tc = 1e300;
+    auto consider = [&](const ContactParameters& p, double m, double rEff) {
+        const double k = law_->stiffness(p, rEff);
+        const double g = law_->normalDamping(p);
+        if (!(k > 0)) return;
+        const double w2 = k / m - (g / (2 * m)) * (g / (2 * m));
+        // over-damped pairs: the relevant time scale is the damping time 2m/g, bounded by the elastic one
+        const double t = w2 > 0 ? M_PI / std::sqrt(w2) : M_PI * std::sqrt(m / k);
+        tc = std::min(tc, t);
+    };
+    for (int a = 0; a < ns; ++a) {
+        if (rmin[a] > 1e299) continue;
+        for (int b = a; b < ns; ++b) {
+            if (rmin[b] > 1e299) continue;
+            consider(species_.pair(a, b), reducedMass(mmin[a], mmin[b]), rmin[a] * rmin[b] / (rmin[a] + rmin[b]));
+        }
+        for (const auto& w : walls_) consider(species_.pair(a, w->species), mmin[a], rmin[a]);
+    }
+    return tc;
+}
+
+void DPMBase::prepare(bool freshStart) {
+    if (particles_.empty()) inputError("no particles: setupInitialConditions() added none");
+    if (species_.size() == 0) inputError("no species defined");
+    // Validate every species pair in use.
+    std::vector<char> used(species_.size(), 0);
+    for (int32_t s : particles_.species) used[s] = 1;
+    for (int a = 0; a < species_.size(); ++a) {
+        if (!used[a]) continue;
+        for (int b = a; b < species_.size(); ++b) {
+            if (!used[b]) continue;
+            const auto& p = species_.pair(a, b);
+            const std::string who = "species pair (" + species_[a].name + ", " + species_[b].name + ")";
+            if (!p.defined) inputError(who + ": no contact parameters given (mixed pairs need explicit parameters)");
+            law_->validate(p, who);
+        }
+        for (const auto& w : walls_) {
+            const auto& p = species_.pair(a, w->species);
+            const std::string who = "species pair (" + species_[a].name + ", wall " + species_[w->species].name + ")";
+            if (!p.defined) inputError(who + ": no contact parameters given");
+            law_->validate(p, who);
+        }
+    }
+    const double tc = minCollisionTime();
+    if (dt_ == 0) dt_ = tc / 50;
+    if (!(dt_ > 0) || !std::isfinite(dt_)) inputError("time step could not be determined (dt = " + fmt(dt_) + ")");
+    if (dt_ > tc / 10)
+        inputError("time step dt = " + fmt(dt_) + " s is above t_c/10 = " + fmt(tc / 10) +
+                   " s of the fastest pair (t_c = " + fmt(tc) + " s)");
+    if (!(timeMax_ > time_)) inputError("time_max (" + fmt(timeMax_) + " s) must exceed the current time " + fmt(time_) + " s");
+    for (const auto& w : walls_) w->moveTo(time_);
+
+    neighbours_.setSkin(skinParameter_);
+    neighbours_.build(particles_, box_, walls_, law_->historySize());
+    slabRecords_.resize(neighbours_.slabCount() + 1);
+    slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
+
+    if (freshStart) {
+        // Initial overlaps above 10 % of the smaller radius are refused.
+        for (std::size_t k = 0; k < neighbours_.pairCount(); ++k) {
+            const uint32_t i = neighbours_.pairI[k], j = neighbours_.pairJ[k];
+            Vec3 d = particles_.x[i] - particles_.x[j];
+            box_.minimumImage(d);
+            const double overlap = particles_.r[i] + particles_.r[j] - norm(d);
+            if (overlap > maxInitialOverlap_ * std::min(particles_.r[i], particles_.r[j]))
+                inputError("initial overlap of particles " + std::to_string(i) + " and " + std::to_string(j) + " is " +
+                           fmt(overlap) + " m, above " + fmt(100 * maxInitialOverlap_) +
+                           " % of the smaller radius (--max_initial_overlap)");
+        }
+    }
+    std::filesystem::path dir(outDir_);
+    ensureDirectory(outDir_);
+    if (freshStart || eneBuffer_.empty()) {
+        std::ostringstream h;
+        writeEneHeader(h);
+        h << '\n';
+        eneBuffer_ = h.str();
+    }
+    const double every = outputInterval();
+    nextOutput_ = freshStart ? time_ : time_ + every;
+    if (vtkOutput_ && snapshotWriterFactory() && !snapshotWriter_) snapshotWriter_ = snapshotWriterFactory()();
+    computeForces(true);
+    gatherRecords();
+    prepared_ = true;
+}
+
+double DPMBase::outputInterval() const {
+    if (saveEvery_ > 0) return saveEvery_;
+    return std::max(timeMax_ - time_, dt_) / 100;
+}
+
+// ---- time loop --------------------------------------------------------------------------------------
+void DPMBase::solve() {
+    if (!prepared_) prepare(true);
+    progress_ = std::make_unique<ProgressReporter>(quiet_);
+    actionsBeforeTimeLoop();
+    const double every = outputInterval();
+    if (time_ >= nextOutput_ - 0.5 * dt_) {
+        writeOutputFiles();
+        nextOutput_ += every;
+    }
+    progress_->start(time_, timeMax_);
+    bool lastWasOutput = true;
+    while (time_ < timeMax_ - 0.5 * dt_ && continueSolve()) {
+        const bool record = recordRequested_ || time_ + dt_ >= nextOutput_ - 0.5 * dt_;
+        recordRequested_ = false;
+        actionsBeforeTimeStep();
+        integrateFirstHalf();
+        time_ += dt_;
+        for (auto& w : walls_) w->moveTo(time_);
+        if (neighbours_.needsRebuild(particles_, box_, walls_)) {
+            neighbours_.build(particles_, box_, walls_, law_->historySize());
+            slabRecords_.resize(neighbours_.slabCount() + 1);
+            slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
+        }
+        computeForces(record);
+        integrateSecondHalf();
+        ++step_;
+        checkFinite();
+        if (record) gatherRecords();
+        actionsAfterTimeStep();
+        lastWasOutput = false;
+        if (time_ >= nextOutput_ - 0.5 * dt_) {
+            writeOutputFiles();
+            while (nextOutput_ <= time_ + 0.5 * dt_) nextOutput_ += every;
+            lastWasOutput = true;
+        }
+        progress_->update(time_, step_);
+    }
+    actionsAfterSolve();
+    if (!lastWasOutput) {
+        refreshContacts();
+        writeOutputFiles();
+    }
+    progress_->finish(step_);
+    finishFiles();
+}
+
+void DPMBase::integrateFirstHalf() {
+    ParticleData& P = particles_;
+    const long n = static_cast<long>(P.size());
+    const double h = 0.5 * dt_, dt = dt_;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i) {
+        if (P.fixed[i]) continue;
+        P.v[i] += (h * P.invM[i]) * P.f[i];
+        P.w[i] += (h * P.invI[i]) * P.t[i];
+        P.x[i] += dt * P.v[i];
+    }
+}
+
+void DPMBase::integrateSecondHalf() {
+    ParticleData& P = particles_;
+    const long n = static_cast<long>(P.size());
+    const double h = 0.5 * dt_;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i) {
+        if (P.fixed[i]) continue;
+        P.v[i] += (h * P.invM[i]) * P.f[i];
+        P.w[i] += (h * P.invI[i]) * P.t[i];
+    }
+}
+
+void DPMBase::computeForces(bool record) {
+    ParticleData& P = particles_;
+    const long n = static_cast<long>(P.size());
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i) {
+        P.f[i] = {};
+        P.t[i] = {};
+    }
+    const std::size_t nWallEntries = neighbours_.wallParticle.size();
+    if (wallForce_.size() < nWallEntries) {
+        wallForce_.resize(nWallEntries);
+        wallTorque_.resize(nWallEntries);
+        wallEnergy_.resize(nWallEntries);
+        wallSliding_.resize(nWallEntries);
+    }
+    ForceContext c{P, box_, neighbours_, walls_, species_};
+    c.dt = dt_;
+    c.time = time_;
+    c.record = record;
+    c.records = &slabRecords_;
+    c.energy = &slabEnergy_;
+    c.wallForce = &wallForce_;
+    c.wallTorque = &wallTorque_;
+    c.wallEnergy = &wallEnergy_;
+    c.wallSliding = &wallSliding_;
+    law_->computePairForces(c);
+    law_->computeWallForces(c);
+    lastStepRecorded_ = record;
+    computeAdditionalForces();
+    const Vec3 g = gravity_;
+    const double gbt = gammaBt_, gbr = gammaBr_;
+    if (g == Vec3{} && gbt == 0 && gbr == 0) return;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i) {
+        P.f[i] += P.m[i] * g - gbt * P.v[i];
+        P.t[i] -= gbr * P.w[i];
+    }
+}
+
+void DPMBase::gatherRecords() {
+    contactsFlat_.clear();
+    for (const auto& v : slabRecords_) contactsFlat_.insert(contactsFlat_.end(), v.begin(), v.end());
+    double e = 0;
+    for (double x : slabEnergy_) e += x;
+    elasticEnergy_ = e;
+}
+
+void DPMBase::refreshContacts() {
+    // Forces at the current state with records. The law updates histories, so evaluate on a copy.
+    auto savedHistory = neighbours_.history;
+    auto savedWallHistory = neighbours_.wallHistory;
+    auto savedF = particles_.f;
+    auto savedT = particles_.t;
+    computeForces(true);
+    gatherRecords();
+    neighbours_.history = std::move(savedHistory);
+    neighbours_.wallHistory = std::move(savedWallHistory);
+    particles_.f = std::move(savedF);
+    particles_.t = std::move(savedT);
+}
+
+void DPMBase::checkFinite() {
+    const ParticleData& P = particles_;
+    const long n = static_cast<long>(P.size());
+    bool bad = false;
+#pragma omp parallel for reduction(|| : bad) schedule(static)
+    for (long i = 0; i < n; ++i)
+        if (!std::isfinite(P.v[i].x + P.v[i].y + P.v[i].z + P.w[i].x + P.w[i].y + P.w[i].z)) bad = true;
+    if (!bad) return;
+    long first = 0;
+    while (first < n && std::isfinite(P.v[first].x + P.v[first].y + P.v[first].z + P.w[first].x + P.w[first].y + P.w[first].z)) ++first;
+    finishFiles();
+    std::string where = lastFiniteRestartTime_ >= 0
+                            ? "; last finite state (t = " + fmt(lastFiniteRestartTime_) + " s) is in " + outputPath(".restart")
+                            : "";
+    inputError("NaN in the velocity of particle " + std::to_string(first) + " at t = " + fmt(time_) + " s (step " +
+               std::to_string(step_) + ")" + where);
+}
+
+// ---- energies (deterministic sums) ------------------------------------------------------------------
+double DPMBase::kineticEnergy() const {
+    const ParticleData& P = particles_;
+    return deterministicSum(P.size(), [&](std::size_t i) { return P.fixed[i] ? 0.0 : 0.5 * P.m[i] * norm2(P.v[i]); });
+}
+double DPMBase::rotationalEnergy() const {
+    const ParticleData& P = particles_;
+    return deterministicSum(P.size(), [&](std::size_t i) {
+        return P.fixed[i] ? 0.0 : 0.2 * P.m[i] * P.r[i] * P.r[i] * norm2(P.w[i]);
+    });
+}
+double DPMBase::gravitationalEnergy() const {
+    const ParticleData& P = particles_;
+    const Vec3 g = gravity_;
+    return deterministicSum(P.size(), [&](std::size_t i) { return P.fixed[i] ? 0.0 : -P.m[i] * dot(g, P.x[i]); });
+}
+
+std::size_t DPMBase::memoryBytes() const { return particles_.bytes() + neighbours_.bytes(); }
+
+// ---- output -----------------------------------------------------------------------------------------
+void DPMBase::writeEneHeader(std::ostream& os) const {
+    os << "# time ke_trans ke_rot e_elastic e_gravity e_dissipated";
+}
+void DPMBase::writeEneTimeStep(std::ostream& os) const {
+    os << fmt(time_) << ' ' << fmt(kineticEnergy()) << ' ' << fmt(rotationalEnergy()) << ' ' << fmt(elasticEnergy_)
+       << ' ' << fmt(gravitationalEnergy()) << " nan";
+}
+
+void DPMBase::writeOutputFiles() {
+    if (!lastStepRecorded_) refreshContacts();
+    if (eneOutput_) writeEne();
+    if (vtkOutput_) writeSnapshot();
+    if (fstatOutput_) writeFstat();
+    if (restartOutput_) {
+        writeRestart(outputPath(".restart"));
+        lastFiniteRestartTime_ = time_;
+    }
+    ++outputIndex_;
+}
+
+void DPMBase::writeEne() {
+    std::ostringstream row;
+    writeEneTimeStep(row);
+    row << '\n';
+    eneBuffer_ += row.str();
+    writeWholeFile(outputPath(".ene"), eneBuffer_);
+}
+
+void DPMBase::writeSnapshot() {
+    if (!snapshotWriter_) {
+        static bool warned = false;
+        if (!warned && !quiet_)
+            std::cerr << name_ << ": note: VTK output is not linked into this program (include IO/VtkWriter.h)\n";
+        warned = true;
+        return;
+    }
+    const std::size_t n = particles_.size();
+    std::vector<int> coordination(n, 0);
+    std::vector<Vec3> force(n);
+    for (const auto& c : contactsFlat_) {
+        const Vec3 F = c.fn * c.n + c.ft;
+        ++coordination[c.i];
+        force[c.i] += F;
+        if (c.j >= 0) {
+            ++coordination[c.j];
+            force[c.j] -= F;
+        }
+    }
+    SnapshotView view{particles_, coordination, force, walls_, box_, time_, step_};
+    snapshotWriter_->write(outDir_, runName_, outputIndex_, view);
+}
+
+void DPMBase::writeFstat() {
+    if (!fstatStream_) {
+        fstatStream_ = std::make_unique<std::ofstream>(outputPath(".fstat.tmp"), std::ios::trunc);
+        if (!*fstatStream_) inputError("cannot write " + outputPath(".fstat.tmp"));
+    }
+    std::ostream& os = *fstatStream_;
+    const Vec3 lo = box_.lo(), hi = box_.hi();
+    os << "# time " << fmt(time_) << " step " << step_ << " contacts " << contactsFlat_.size() << '\n';
+    os << "# box " << fmt(lo.x) << ' ' << fmt(hi.x) << ' ' << fmt(lo.y) << ' ' << fmt(hi.y) << ' ' << fmt(lo.z) << ' '
+       << fmt(hi.z) << " periodic " << box_.periodic(0) << ' ' << box_.periodic(1) << ' ' << box_.periodic(2) << '\n';
+    for (const auto& c : contactsFlat_) {
+        os << c.i << ' ' << c.j << ' ' << fmt(c.point) << ' ' << fmt(c.overlap) << ' ' << fmt(c.n) << ' ' << fmt(c.fn)
+           << ' ' << fmt(c.ft) << ' ' << fmt(c.branch) << ' ' << (c.sliding ? 1 : 0) << '\n';
+    }
+    os.flush();
+}
+
+void DPMBase::finishFiles() {
+    if (fstatStream_) {
+        fstatStream_->close();
+        fstatStream_.reset();
+        std::filesystem::rename(outputPath(".fstat.tmp"), outputPath(".fstat"));
+    }
+}
+
+} // namespace pdpm

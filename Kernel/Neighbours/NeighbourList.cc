@@ -1,0 +1,355 @@
+#include "Neighbours/NeighbourList.h"
+
+#include <algorithm>
+#include <cmath>
+#include <istream>
+#include <ostream>
+#include <string>
+#include <type_traits>
+
+#include "IO/NumberFormat.h"
+
+#include "Boundaries/PeriodicBox.h"
+#include "Core/Error.h"
+#include "Particles/ParticleData.h"
+#include "Walls/Wall.h"
+
+namespace pdpm {
+
+std::size_t NeighbourList::bytes() const {
+    return (pairI.capacity() + pairJ.capacity() + wallParticle.capacity()) * sizeof(uint32_t) +
+           (history.capacity() + wallHistory.capacity()) * sizeof(double) + x0_.capacity() * sizeof(Vec3) +
+           (cellOf_.capacity() + cellStart_.capacity() + cellList_.capacity() + oldI_.capacity() +
+            oldJ_.capacity() + csrIndex_.capacity()) * sizeof(uint32_t) +
+           oldHistory_.capacity() * sizeof(double) + csrStart_.capacity() * sizeof(std::size_t);
+}
+
+bool NeighbourList::needsRebuild(const ParticleData& p, const PeriodicBox& box, const WallList& walls) const {
+    if (!valid_ || x0_.size() != p.size() || wallOffset0_.size() != walls.size()) return true;
+    const std::size_t n = p.size();
+    const Vec3* x = p.x.data();
+    const Vec3* x0 = x0_.data();
+    double maxD2 = 0;
+#pragma omp parallel for reduction(max : maxD2) schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+        const double d2 = norm2(x[i] - x0[i]);
+        if (d2 > maxD2) maxD2 = d2;
+    }
+    const double maxD = std::sqrt(maxD2);
+    const double boxChange = box.lengthChange(0) + box.lengthChange(1) + box.lengthChange(2);
+    const double s = skin();
+    if (2 * maxD + boxChange >= s) return true;
+    for (std::size_t w = 0; w < walls.size(); ++w)
+        if (maxD + norm(walls[w]->offset() - wallOffset0_[w]) >= s) return true;
+    return false;
+}
+
+namespace {
+template <class T>
+void writeVec(std::ostream& os, const char* name, const std::vector<T>& v) {
+    os << name << ' ' << v.size() << '\n';
+    for (std::size_t k = 0; k < v.size(); ++k) {
+        if constexpr (std::is_same_v<T, double>) os << fmt(v[k]);
+        else if constexpr (std::is_same_v<T, Vec3>) os << fmt(v[k]);
+        else os << v[k];
+        os << ((k + 1) % 16 == 0 || k + 1 == v.size() ? '\n' : ' ');
+    }
+}
+template <class T>
+void readVec(std::istream& is, const char* name, std::vector<T>& v, std::size_t maxSize) {
+    std::string tag;
+    std::size_t n = 0;
+    is >> tag >> n;
+    if (!is || tag != name || n > maxSize) inputError(std::string("restart: malformed neighbour section '") + name + "'");
+    v.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        if constexpr (std::is_same_v<T, double>) v[k] = readDouble(is);
+        else if constexpr (std::is_same_v<T, Vec3>) v[k] = readVec3(is);
+        else is >> v[k];
+    }
+    if (!is) inputError(std::string("restart: truncated neighbour section '") + name + "'");
+}
+} // namespace
+
+void NeighbourList::write(std::ostream& os) const {
+    os << "neighbours " << fmt(skin_) << ' ' << fmt(skinUsed_) << ' ' << historySize << ' ' << builds_ << ' '
+       << phases.size() << '\n';
+    for (const auto& ph : phases) {
+        os << ph.size();
+        for (int s : ph) os << ' ' << s;
+        os << '\n';
+    }
+    writeVec(os, "slabStart", slabStart);
+    writeVec(os, "pairI", pairI);
+    writeVec(os, "pairJ", pairJ);
+    writeVec(os, "history", history);
+    writeVec(os, "wallStart", wallStart);
+    writeVec(os, "wallParticle", wallParticle);
+    writeVec(os, "wallHistory", wallHistory);
+    writeVec(os, "x0", x0_);
+    writeVec(os, "wallOffset0", wallOffset0_);
+}
+
+void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t nWalls) {
+    std::string tag;
+    std::size_t nPhases = 0;
+    is >> tag;
+    skin_ = readDouble(is);
+    skinUsed_ = readDouble(is);
+    is >> historySize >> builds_ >> nPhases;
+    if (!is || tag != "neighbours" || nPhases > 3) inputError("restart: malformed neighbour header");
+    phases.assign(nPhases, {});
+    for (auto& ph : phases) {
+        std::size_t k = 0;
+        is >> k;
+        if (!is || k > (1u << 24)) inputError("restart: malformed neighbour phases");
+        ph.resize(k);
+        for (auto& s : ph) is >> s;
+    }
+    const std::size_t big = std::size_t(1) << 40;
+    readVec(is, "slabStart", slabStart, big);
+    readVec(is, "pairI", pairI, big);
+    readVec(is, "pairJ", pairJ, big);
+    readVec(is, "history", history, big);
+    readVec(is, "wallStart", wallStart, nWalls + 1);
+    readVec(is, "wallParticle", wallParticle, big);
+    readVec(is, "wallHistory", wallHistory, big);
+    readVec(is, "x0", x0_, nParticles);
+    readVec(is, "wallOffset0", wallOffset0_, nWalls);
+    const std::size_t np = pairI.size();
+    bool ok = pairJ.size() == np && history.size() == np * historySize && !slabStart.empty() &&
+              slabStart.back() == np && x0_.size() == nParticles && wallStart.size() == nWalls + 1 &&
+              wallHistory.size() == wallParticle.size() * historySize && wallStart.back() == wallParticle.size();
+    for (std::size_t k = 0; ok && k < np; ++k) ok = pairI[k] < nParticles && pairJ[k] < nParticles;
+    for (std::size_t k = 0; ok && k < wallParticle.size(); ++k) ok = wallParticle[k] < nParticles;
+    for (const auto& ph : phases)
+        for (int s : ph) ok = ok && s >= 0 && s + 1 < static_cast<int>(slabStart.size());
+    if (!ok) inputError("restart: inconsistent neighbour-list section");
+    valid_ = true;
+}
+
+void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& walls, int hsize) {
+    const std::size_t n = p.size();
+    if (n >= 0xffffffffu) inputError("too many particles for 32-bit neighbour indices");
+    const bool carry = historySize == hsize && hsize > 0;
+
+    // Keep the old lists for the history transfer.
+    oldI_.swap(pairI);
+    oldJ_.swap(pairJ);
+    oldHistory_.swap(history);
+    oldWallParticle_.swap(wallParticle);
+    oldWallHistory_.swap(wallHistory);
+    oldWallStart_.swap(wallStart);
+    historySize = hsize;
+
+    for (auto& xi : p.x) box.wrap(xi);
+
+    // ---- cell grid --------------------------------------------------------------------------------
+    const double rmax = p.maxRadius();
+    double skin = skin_ > 0 ? skin_ : 0.1 * (n ? p.minRadius() : 0);
+    const Vec3 L = box.length();
+    for (int a = 0; a < 3; ++a) {
+        if (!box.periodic(a)) continue;
+        // A particle may touch only the nearest image of another: L >= 2 (2 rmax + skin).
+        const double maxSkin = 0.5 * L[a] - 2 * rmax;
+        if (maxSkin <= 0)
+            inputError("periodic box length " + std::to_string(L[a]) + " m along axis " + std::to_string(a) +
+                       " is smaller than twice the largest particle diameter");
+        skin = std::min(skin, maxSkin * 0.999);
+    }
+    skinUsed_ = skin;
+    const double cutoff = 2 * rmax + skin;
+
+    Vec3 origin, extent;
+    int nc[3];
+    for (int a = 0; a < 3; ++a) {
+        if (box.periodic(a)) {
+            origin[a] = box.lo()[a];
+            extent[a] = L[a];
+        } else {
+            double lo = 1e300, hi = -1e300;
+            for (const auto& xi : p.x) { lo = std::min(lo, xi[a]); hi = std::max(hi, xi[a]); }
+            if (n == 0) { lo = 0; hi = 1; }
+            origin[a] = lo;
+            extent[a] = std::max(hi - lo, cutoff);
+        }
+        nc[a] = std::max(1, static_cast<int>(std::floor(extent[a] / cutoff)));
+        if (box.periodic(a) && nc[a] < 3) nc[a] = 1;
+    }
+    // Bound the number of cells for sparse systems.
+    while (static_cast<double>(nc[0]) * nc[1] * nc[2] > 8.0 * static_cast<double>(n) + 64) {
+        int a = 0;
+        for (int k = 1; k < 3; ++k) if (nc[k] > nc[a]) a = k;
+        nc[a] = std::max(1, nc[a] / 2);
+        if (box.periodic(a) && nc[a] < 3) nc[a] = 1;
+    }
+    Vec3 invCell;
+    for (int a = 0; a < 3; ++a) invCell[a] = nc[a] / extent[a];
+
+    // Slab axis: the one with most cells; cells are numbered slab-major.
+    int sa = 0;
+    for (int k = 1; k < 3; ++k) if (nc[k] > nc[sa]) sa = k;
+    const int sb = (sa + 1) % 3, sc = (sa + 2) % 3;
+    const int nSlab = nc[sa];
+    const std::size_t nCells = static_cast<std::size_t>(nc[0]) * nc[1] * nc[2];
+    auto cellCoord = [&](const Vec3& xi, int a) {
+        int c = static_cast<int>((xi[a] - origin[a]) * invCell[a]);
+        return std::clamp(c, 0, nc[a] - 1);
+    };
+    auto cellIndex = [&](int ca, int cb, int cc) {
+        return (static_cast<std::size_t>(ca) * nc[sb] + cb) * nc[sc] + cc;
+    };
+
+    cellOf_.resize(n);
+    cellStart_.assign(nCells + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t c = cellIndex(cellCoord(p.x[i], sa), cellCoord(p.x[i], sb), cellCoord(p.x[i], sc));
+        cellOf_[i] = static_cast<uint32_t>(c);
+        ++cellStart_[c + 1];
+    }
+    for (std::size_t c = 0; c < nCells; ++c) cellStart_[c + 1] += cellStart_[c];
+    cellList_.resize(n);
+    {
+        std::vector<uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
+        for (std::size_t i = 0; i < n; ++i) cellList_[fill[cellOf_[i]]++] = static_cast<uint32_t>(i);
+    }
+    const bool perSlab = box.periodic(sa);
+
+    // ---- pairs, per slab, in parallel ---------------------------------------------------------------
+    slabI_.resize(nSlab);
+    slabJ_.resize(nSlab);
+    const Vec3* x = p.x.data();
+    const double* r = p.r.data();
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int s = 0; s < nSlab; ++s) {
+        auto& li = slabI_[s];
+        auto& lj = slabJ_[s];
+        li.clear();
+        lj.clear();
+        for (int cb = 0; cb < nc[sb]; ++cb)
+            for (int cc = 0; cc < nc[sc]; ++cc) {
+                const std::size_t c = cellIndex(s, cb, cc);
+                for (uint32_t ki = cellStart_[c]; ki < cellStart_[c + 1]; ++ki) {
+                    const uint32_t i = cellList_[ki];
+                    const int si = s;
+                    // neighbour cells
+                    for (int da = -1; da <= 1; ++da) {
+                        if (nc[sa] == 1 && da != 0) continue;
+                        int ca = s + da;
+                        if (ca < 0 || ca >= nc[sa]) { if (!perSlab) continue; ca = (ca + nc[sa]) % nc[sa]; }
+                        for (int db = -1; db <= 1; ++db) {
+                            if (nc[sb] == 1 && db != 0) continue;
+                            int cb2 = cb + db;
+                            if (cb2 < 0 || cb2 >= nc[sb]) { if (!box.periodic(sb)) continue; cb2 = (cb2 + nc[sb]) % nc[sb]; }
+                            for (int dc = -1; dc <= 1; ++dc) {
+                                if (nc[sc] == 1 && dc != 0) continue;
+                                int cc2 = cc + dc;
+                                if (cc2 < 0 || cc2 >= nc[sc]) { if (!box.periodic(sc)) continue; cc2 = (cc2 + nc[sc]) % nc[sc]; }
+                                const std::size_t c2 = cellIndex(ca, cb2, cc2);
+                                for (uint32_t kj = cellStart_[c2]; kj < cellStart_[c2 + 1]; ++kj) {
+                                    const uint32_t j = cellList_[kj];
+                                    if (j == i) continue;
+                                    // owner: particle in the lower slab (cyclically); same slab -> lower index
+                                    const int sj = ca;
+                                    bool own;
+                                    if (sj == si) own = i < j;
+                                    else own = (sj == si + 1) || (perSlab && sj == 0 && si == nSlab - 1 && nSlab > 1);
+                                    if (nSlab == 2 && perSlab && sj != si) own = si == 0;  // both are "next"
+                                    if (!own) continue;
+                                    Vec3 d = x[i] - x[j];
+                                    box.minimumImage(d);
+                                    const double rc = r[i] + r[j] + skin;
+                                    if (norm2(d) < rc * rc) {
+                                        li.push_back(std::min(i, j));
+                                        lj.push_back(std::max(i, j));
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+    }
+    // Concatenate.
+    slabStart.assign(nSlab + 1, 0);
+    for (int s = 0; s < nSlab; ++s) slabStart[s + 1] = slabStart[s] + slabI_[s].size();
+    const std::size_t nPairs = slabStart[nSlab];
+    pairI.resize(nPairs);
+    pairJ.resize(nPairs);
+    for (int s = 0; s < nSlab; ++s) {
+        std::copy(slabI_[s].begin(), slabI_[s].end(), pairI.begin() + slabStart[s]);
+        std::copy(slabJ_[s].begin(), slabJ_[s].end(), pairJ.begin() + slabStart[s]);
+    }
+    // Phases: even slabs, odd slabs (and the last slab alone if periodic and odd in number).
+    phases.clear();
+    if (nSlab == 1) {
+        phases.push_back({0});
+    } else {
+        std::vector<int> even, odd, last;
+        for (int s = 0; s < nSlab; ++s) {
+            if (perSlab && (nSlab % 2 == 1) && s == nSlab - 1) last.push_back(s);
+            else (s % 2 == 0 ? even : odd).push_back(s);
+        }
+        phases.push_back(even);
+        phases.push_back(odd);
+        if (!last.empty()) phases.push_back(last);
+    }
+
+    // ---- history transfer (old pairs indexed by their first particle) -------------------------------
+    history.assign(nPairs * hsize, 0.0);
+    if (carry && !oldI_.empty()) {
+        csrStart_.assign(n + 1, 0);
+        for (uint32_t a : oldI_) if (a < n) ++csrStart_[a + 1];
+        for (std::size_t a = 0; a < n; ++a) csrStart_[a + 1] += csrStart_[a];
+        csrIndex_.resize(oldI_.size());
+        {
+            std::vector<std::size_t> fill(csrStart_.begin(), csrStart_.end() - 1);
+            for (std::size_t k = 0; k < oldI_.size(); ++k)
+                if (oldI_[k] < n) csrIndex_[fill[oldI_[k]]++] = static_cast<uint32_t>(k);
+        }
+        const int H = hsize;
+#pragma omp parallel for schedule(static)
+        for (std::size_t k = 0; k < nPairs; ++k) {
+            const uint32_t a = pairI[k], b = pairJ[k];
+            for (std::size_t q = csrStart_[a]; q < csrStart_[a + 1]; ++q) {
+                const uint32_t ko = csrIndex_[q];
+                if (oldJ_[ko] == b) {
+                    std::copy_n(&oldHistory_[static_cast<std::size_t>(ko) * H], H, &history[k * H]);
+                    break;
+                }
+            }
+        }
+    }
+
+    // ---- wall lists -----------------------------------------------------------------------------
+    const bool carryWalls = carry && oldWallStart_.size() == walls.size() + 1;
+    wallStart.assign(walls.size() + 1, 0);
+    wallParticle.clear();
+    wallHistory.clear();
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+        std::size_t q = carryWalls ? oldWallStart_[w] : 0;
+        const std::size_t qEnd = carryWalls ? oldWallStart_[w + 1] : 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            Vec3 nrm;
+            const double d = walls[w]->distance(p.x[i], nrm);
+            if (d < p.r[i] + skin) {
+                wallParticle.push_back(static_cast<uint32_t>(i));
+                const std::size_t base = wallHistory.size();
+                wallHistory.resize(base + hsize, 0.0);
+                while (q < qEnd && oldWallParticle_[q] < i) ++q;
+                if (q < qEnd && oldWallParticle_[q] == i)
+                    std::copy_n(&oldWallHistory_[q * hsize], hsize, &wallHistory[base]);
+            }
+        }
+        wallStart[w + 1] = wallParticle.size();
+    }
+
+    x0_ = p.x;
+    wallOffset0_.resize(walls.size());
+    for (std::size_t w = 0; w < walls.size(); ++w) wallOffset0_[w] = walls[w]->offset();
+    box.resetChange();
+    valid_ = true;
+    ++builds_;
+}
+
+} // namespace pdpm

@@ -1,0 +1,76 @@
+// Verlet neighbour list built with linked cells: O(N) per build, rebuilt only when some particle
+// moved more than half the skin (or the periodic box / a wall moved enough).
+//
+// Pairs are stored canonically (i < j) together with the contact history of the law, and grouped
+// into slabs along one axis. A pair belongs to the slab of the particle in the lower slab, so the
+// pairs of slab s touch only particles of slabs s and s+1. Slabs of the same phase (even / odd)
+// therefore touch disjoint particles and are processed in parallel; every particle receives its
+// contributions in an order that does not depend on the number of threads -> bitwise-identical
+// results for any thread count, without atomics or per-pair force buffers.
+#pragma once
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+#include "Math/Vec3.h"
+
+namespace pdpm {
+
+struct ParticleData;
+class PeriodicBox;
+class Wall;
+using WallList = std::vector<std::unique_ptr<Wall>>;
+
+class NeighbourList {
+public:
+    void setSkin(double skin) { skin_ = skin; }
+    double skin() const { return skinUsed_ > 0 ? skinUsed_ : skin_; }
+
+    /// True if the list must be rebuilt before the next force evaluation.
+    bool needsRebuild(const ParticleData& p, const PeriodicBox& box, const WallList& walls) const;
+    /// Wrap particles into the periodic box and rebuild pairs and wall lists, carrying contact
+    /// histories over. `historySize` = doubles of history per contact (from the contact law).
+    void build(ParticleData& p, PeriodicBox& box, const WallList& walls, int historySize);
+    /// Forget everything (e.g. after particles were added or the law changed).
+    void invalidate() { valid_ = false; }
+
+    // ---- pair data (read by the contact loops) --------------------------------------------------
+    std::vector<uint32_t> pairI, pairJ;  ///< canonical i < j
+    std::vector<double> history;         ///< historySize doubles per pair
+    std::vector<std::size_t> slabStart;  ///< pairs of slab s: [slabStart[s], slabStart[s+1])
+    std::vector<std::vector<int>> phases;///< slabs processed together; phases run one after another
+    int historySize = 0;
+
+    // ---- wall data: particles near wall w are wallParticle[wallStart[w] .. wallStart[w+1]) ------
+    std::vector<uint32_t> wallParticle;
+    std::vector<double> wallHistory;
+    std::vector<std::size_t> wallStart;
+
+    long builds() const { return builds_; }
+    std::size_t pairCount() const { return pairI.size(); }
+    int slabCount() const { return static_cast<int>(slabStart.size()) - 1; }
+    std::size_t bytes() const;
+
+    /// Exact state for restart files (pairs in order, histories, slabs, reference positions), so a
+    /// restarted run continues bitwise-identically without rebuilding.
+    void write(std::ostream& os) const;
+    void read(std::istream& is, std::size_t nParticles, std::size_t nWalls);
+
+private:
+    double skin_ = 0;
+    double skinUsed_ = 0;
+    bool valid_ = false;
+    long builds_ = 0;
+    std::vector<Vec3> x0_;            ///< positions at the last build
+    std::vector<Vec3> wallOffset0_;   ///< wall offsets at the last build
+    // scratch, kept to avoid reallocations
+    std::vector<uint32_t> cellOf_, cellStart_, cellList_;
+    std::vector<std::vector<uint32_t>> slabI_, slabJ_;
+    std::vector<uint32_t> oldI_, oldJ_, oldWallParticle_;
+    std::vector<double> oldHistory_, oldWallHistory_;
+    std::vector<std::size_t> oldWallStart_, csrStart_;
+    std::vector<uint32_t> csrIndex_;
+};
+
+} // namespace pdpm
