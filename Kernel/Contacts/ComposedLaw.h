@@ -18,6 +18,8 @@ class ComposedLaw final : public ContactLaw {
 public:
     static constexpr int H = N::H + T::H + R::H + O::H;
     static constexpr bool kTangential = T::H > 0 || R::H > 0 || O::H > 0;
+    static constexpr bool kNeedsMass = N::kNeedsMass || T::kNeedsMass;
+    static constexpr bool kNeedsRadius = N::kNeedsRadius || T::kNeedsRadius || R::H > 0 || O::H > 0;
 
     explicit ComposedLaw(std::string name) : name_(std::move(name)) {}
     std::string name() const override { return name_; }
@@ -43,92 +45,109 @@ public:
         eval(p, s, h, o);
     }
 
+    /// Box geometry copied into locals so that the compiler need not reload it in the hot loop.
+    struct ImageInfo {
+        bool p[3];
+        double len[3], half[3];
+        explicit ImageInfo(const PeriodicBox& b) {
+            for (int a = 0; a < 3; ++a) {
+                p[a] = b.periodic(a);
+                len[a] = b.length()[a];
+                half[a] = 0.5 * len[a];
+            }
+        }
+        inline void apply(double& dx, double& dy, double& dz) const {
+            if (p[0]) { if (dx > half[0]) dx -= len[0]; else if (dx < -half[0]) dx += len[0]; }
+            if (p[1]) { if (dy > half[1]) dy -= len[1]; else if (dy < -half[1]) dy += len[1]; }
+            if (p[2]) { if (dz > half[2]) dz -= len[2]; else if (dz < -half[2]) dz += len[2]; }
+        }
+    };
+
+    /// Forces of the pairs [k0, k1) of one slab. Restrict-qualified pointers: the arrays never alias.
+    static void pairRange(std::size_t k0, std::size_t k1, const uint32_t* __restrict pi, const uint32_t* __restrict pj,
+                          const Vec3* __restrict x, const Vec3* __restrict v, const Vec3* __restrict w,
+                          const double* __restrict r, const double* __restrict invM, const double* __restrict m,
+                          const int32_t* __restrict sp, Vec3* __restrict f, Vec3* __restrict t,
+                          double* __restrict hist, const ImageInfo img, const SpeciesTable& spt, double dt,
+                          double time, std::vector<ContactRecord>* rec, double& energy) {
+        const bool single = spt.size() == 1;
+        const ContactParameters& p0 = spt.pair(0, 0);
+        for (std::size_t k = k0; k < k1; ++k) {
+            const uint32_t i = pi[k], j = pj[k];
+            double dx = x[i].x - x[j].x, dy = x[i].y - x[j].y, dz = x[i].z - x[j].z;
+            img.apply(dx, dy, dz);
+            const double rs = r[i] + r[j];
+            const double d2 = dx * dx + dy * dy + dz * dz;
+            double* h = hist + k * H;
+            if (d2 >= rs * rs) {
+                if constexpr (H > 0) for (int q = 0; q < H; ++q) h[q] = 0.0;
+                continue;
+            }
+            const double dist = std::sqrt(d2);
+            const double inv = 1.0 / dist;
+            ContactState st;
+            st.n = {dx * inv, dy * inv, dz * inv};
+            st.overlap = rs - dist;
+            const Vec3 vrel = v[i] - v[j];
+            st.overlapRate = -dot(vrel, st.n);
+            st.dt = dt;
+            st.time = time;
+            const double ai = r[i] - 0.5 * st.overlap, aj = r[j] - 0.5 * st.overlap;
+            if constexpr (kNeedsMass) {
+                const double sumInv = invM[i] + invM[j];
+                st.mEff = sumInv > 0 ? 1.0 / sumInv : reducedMass(m[i], m[j]);
+            }
+            if constexpr (kNeedsRadius) st.rEff = r[i] * r[j] / rs;
+            if constexpr (kTangential) {
+                const Vec3 vc = vrel - cross(ai * w[i] + aj * w[j], st.n);
+                st.vt = vc - dot(vc, st.n) * st.n;
+                st.wRel = w[i] - w[j];
+            }
+            const ContactParameters& p = single ? p0 : spt.pair(sp[i], sp[j]);
+            ContactOutput o;
+            eval(p, st, h, o);
+            const Vec3 F = o.fn * st.n + o.ft;
+            f[i] += F;
+            f[j] -= F;
+            if constexpr (kTangential) {
+                const Vec3 nxft = cross(st.n, o.ft);
+                t[i] += o.torqueRT - ai * nxft;
+                t[j] -= o.torqueRT + aj * nxft;
+            }
+            if (rec) {
+                energy += o.energy;
+                ContactRecord cr;
+                cr.i = static_cast<int>(i);
+                cr.j = static_cast<int>(j);
+                cr.point = x[i] - ai * st.n;
+                cr.overlap = st.overlap;
+                cr.n = st.n;
+                cr.fn = o.fn;
+                cr.ft = o.ft;
+                cr.branch = {dx, dy, dz};
+                cr.sliding = o.sliding;
+                cr.energy = o.energy;
+                rec->push_back(cr);
+            }
+        }
+    }
+
     void computePairForces(ForceContext& c) const override {
         ParticleData& P = c.particles;
         NeighbourList& nl = c.neighbours;
-        const Vec3* x = P.x.data();
-        const Vec3* v = P.v.data();
-        const Vec3* w = P.w.data();
-        const double* r = P.r.data();
-        const double* invM = P.invM.data();
-        const double* m = P.m.data();
-        const int32_t* sp = P.species.data();
-        Vec3* f = P.f.data();
-        Vec3* t = P.t.data();
-        const uint32_t* pi = nl.pairI.data();
-        const uint32_t* pj = nl.pairJ.data();
-        double* hist = nl.history.data();
-        const std::size_t* slabStart = nl.slabStart.data();
-        const PeriodicBox& box = c.box;
-        const SpeciesTable& spt = c.species;
-        const bool single = spt.size() == 1;
-        const ContactParameters& p0 = spt.pair(0, 0);
-        const double dt = c.dt, time = c.time;
-        const bool record = c.record;
+        const ImageInfo img(c.box);
         for (const auto& phase : nl.phases) {
             const int nPhase = static_cast<int>(phase.size());
 #pragma omp parallel for schedule(dynamic, 1)
             for (int q = 0; q < nPhase; ++q) {
                 const int s = phase[q];
                 double energy = 0;
-                std::vector<ContactRecord>* rec = record ? &(*c.records)[s] : nullptr;
+                std::vector<ContactRecord>* rec = c.record ? &(*c.records)[s] : nullptr;
                 if (rec) rec->clear();
-                for (std::size_t k = slabStart[s]; k < slabStart[s + 1]; ++k) {
-                    const uint32_t i = pi[k], j = pj[k];
-                    Vec3 d = x[i] - x[j];
-                    box.minimumImage(d);
-                    const double rs = r[i] + r[j];
-                    const double d2 = norm2(d);
-                    double* h = hist + k * H;
-                    if (d2 >= rs * rs) {
-                        if constexpr (H > 0) std::fill_n(h, H, 0.0);
-                        continue;
-                    }
-                    const double dist = std::sqrt(d2);
-                    ContactState st;
-                    st.n = d * (1.0 / dist);
-                    st.overlap = rs - dist;
-                    const Vec3 vrel = v[i] - v[j];
-                    st.overlapRate = -dot(vrel, st.n);
-                    st.dt = dt;
-                    st.time = time;
-                    const double ai = r[i] - 0.5 * st.overlap, aj = r[j] - 0.5 * st.overlap;
-                    const double sumInv = invM[i] + invM[j];
-                    st.mEff = sumInv > 0 ? 1.0 / sumInv : reducedMass(m[i], m[j]);
-                    st.rEff = r[i] * r[j] / rs;
-                    if constexpr (kTangential) {
-                        const Vec3 vc = vrel - ai * cross(w[i], st.n) - aj * cross(w[j], st.n);
-                        st.vt = vc - dot(vc, st.n) * st.n;
-                        st.wRel = w[i] - w[j];
-                    }
-                    const ContactParameters& p = single ? p0 : spt.pair(sp[i], sp[j]);
-                    ContactOutput o;
-                    eval(p, st, h, o);
-                    const Vec3 F = o.fn * st.n + o.ft;
-                    f[i] += F;
-                    f[j] -= F;
-                    if constexpr (kTangential) {
-                        const Vec3 nxft = cross(st.n, o.ft);
-                        t[i] += o.torqueRT - ai * nxft;
-                        t[j] -= o.torqueRT + aj * nxft;
-                    }
-                    if (record) {
-                        energy += o.energy;
-                        ContactRecord cr;
-                        cr.i = static_cast<int>(i);
-                        cr.j = static_cast<int>(j);
-                        cr.point = x[i] - ai * st.n;
-                        cr.overlap = st.overlap;
-                        cr.n = st.n;
-                        cr.fn = o.fn;
-                        cr.ft = o.ft;
-                        cr.branch = d;
-                        cr.sliding = o.sliding;
-                        cr.energy = o.energy;
-                        rec->push_back(cr);
-                    }
-                }
-                if (record) (*c.energy)[s] = energy;
+                pairRange(nl.slabStart[s], nl.slabStart[s + 1], nl.pairI.data(), nl.pairJ.data(), P.x.data(),
+                          P.v.data(), P.w.data(), P.r.data(), P.invM.data(), P.m.data(), P.species.data(),
+                          P.f.data(), P.t.data(), nl.history.data(), img, c.species, c.dt, c.time, rec, energy);
+                if (rec) (*c.energy)[s] = energy;
             }
         }
     }

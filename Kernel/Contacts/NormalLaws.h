@@ -24,6 +24,7 @@ inline void requireNonNegative(double v, const std::string& what, const std::str
 /// The force is not clipped when the dashpot makes it attractive at the end of a contact.
 struct NormalLinear {
     static constexpr int H = 0;
+    static constexpr bool kNeedsMass = false, kNeedsRadius = false;
     static void validate(const ContactParameters& p, const std::string& who) {
         detail::requirePositive(p.k, "stiffness k", who);
         detail::requireNonNegative(p.gamma, "normal damping gamma", who);
@@ -42,6 +43,7 @@ struct NormalLinear {
 /// beta = -ln e / sqrt(ln^2 e + pi^2).
 struct NormalHertz {
     static constexpr int H = 0;
+    static constexpr bool kNeedsMass = true, kNeedsRadius = true;
     static void validate(const ContactParameters& p, const std::string& who) {
         detail::requirePositive(p.youngEff, "effective Young's modulus", who);
         if (!(p.restitution > 0 && p.restitution <= 1)) inputError(who + ": restitution must be in (0, 1]");
@@ -70,6 +72,7 @@ struct NormalHertz {
 /// History: h[0] = delta_max. k (= k2-hat) is the maximal unloading stiffness.
 struct NormalLuding {
     static constexpr int H = 1;
+    static constexpr bool kNeedsMass = false, kNeedsRadius = true;
     static void validate(const ContactParameters& p, const std::string& who) {
         detail::requirePositive(p.k, "maximal unloading stiffness k2 (k)", who);
         detail::requirePositive(p.k1, "loading stiffness k1", who);

@@ -45,6 +45,7 @@ inline Vec3 cappedSpring(double* h, const Vec3& n, const Vec3& vel, double k, do
 /// No part (frictionless, no rolling, ...).
 struct NoPart {
     static constexpr int H = 0;
+    static constexpr bool kNeedsMass = false, kNeedsRadius = false;
     static void validate(const ContactParameters&, const std::string&) {}
     static double stiffness(const ContactParameters&, double) { return 0; }
     static void apply(const ContactParameters&, const ContactState&, double*, ContactOutput&) {}
@@ -55,6 +56,7 @@ struct NoPart {
 /// step and capped at the Coulomb limit.
 struct TangentialCoulomb {
     static constexpr int H = 4;
+    static constexpr bool kNeedsMass = false, kNeedsRadius = false;
     static void validate(const ContactParameters& p, const std::string& who) {
         detail::requireNonNegative(p.kt, "tangential stiffness kt", who);
         detail::requireNonNegative(p.gammaT, "tangential damping gammaT", who);
@@ -73,6 +75,7 @@ struct TangentialCoulomb {
 /// 2 sqrt(5/6) beta sqrt(k_t m*), Coulomb cap. History as TangentialCoulomb.
 struct TangentialMindlin {
     static constexpr int H = 4;
+    static constexpr bool kNeedsMass = true, kNeedsRadius = true;
     static void validate(const ContactParameters& p, const std::string& who) {
         detail::requirePositive(p.shearEff, "effective shear modulus G*", who);
         detail::requireNonNegative(p.muS, "static friction mu_s", who);

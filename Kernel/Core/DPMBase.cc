@@ -194,8 +194,12 @@ void DPMBase::prepare(bool freshStart) {
     const double every = outputInterval();
     nextOutput_ = freshStart ? time_ : time_ + every;
     if (vtkOutput_ && snapshotWriterFactory() && !snapshotWriter_) snapshotWriter_ = snapshotWriterFactory()();
-    computeForces(true);
-    gatherRecords();
+    if (freshStart) {
+        const bool rec = outputNeedsContacts();
+        computeForces(rec);
+        addBodyForces();
+        if (rec) gatherRecords();
+    }
     prepared_ = true;
 }
 
@@ -217,21 +221,21 @@ void DPMBase::solve() {
     progress_->start(time_, timeMax_);
     bool lastWasOutput = true;
     while (time_ < timeMax_ - 0.5 * dt_ && continueSolve()) {
-        const bool record = recordRequested_ || time_ + dt_ >= nextOutput_ - 0.5 * dt_;
+        const bool record = recordRequested_ || (outputNeedsContacts() && time_ + dt_ >= nextOutput_ - 0.5 * dt_);
         recordRequested_ = false;
         actionsBeforeTimeStep();
-        integrateFirstHalf();
+        const double maxDisplacement = integrateFirstHalf();
         time_ += dt_;
         for (auto& w : walls_) w->moveTo(time_);
-        if (neighbours_.needsRebuild(particles_, box_, walls_)) {
+        if (neighbours_.needsRebuild(maxDisplacement, particles_, box_, walls_)) {
             neighbours_.build(particles_, box_, walls_, law_->historySize());
             slabRecords_.resize(neighbours_.slabCount() + 1);
             slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
         }
         computeForces(record);
-        integrateSecondHalf();
+        const bool finite = integrateSecondHalf();
         ++step_;
-        checkFinite();
+        if (!finite) reportNonFinite();
         if (record) gatherRecords();
         actionsAfterTimeStep();
         lastWasOutput = false;
@@ -244,46 +248,84 @@ void DPMBase::solve() {
     }
     actionsAfterSolve();
     if (!lastWasOutput) {
-        refreshContacts();
+        if (outputNeedsContacts()) refreshContacts();
         writeOutputFiles();
     }
     progress_->finish(step_);
     finishFiles();
 }
 
-void DPMBase::integrateFirstHalf() {
+// The two half steps are fused with the other per-particle passes (force reset, displacement
+// check for the neighbour list, body forces, NaN check) so that each step streams through the
+// particle arrays twice plus the contact loop.
+double DPMBase::integrateFirstHalf() {
     ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
     const double h = 0.5 * dt_, dt = dt_;
-#pragma omp parallel for schedule(static)
+    const Vec3* x0 = neighbours_.referencePositions();
+    const bool haveRef = neighbours_.referenceCount() == P.size();
+    double maxD2 = 0;
+#pragma omp parallel for schedule(static) reduction(max : maxD2)
     for (long i = 0; i < n; ++i) {
-        if (P.fixed[i]) continue;
-        P.v[i] += (h * P.invM[i]) * P.f[i];
-        P.w[i] += (h * P.invI[i]) * P.t[i];
-        P.x[i] += dt * P.v[i];
+        if (!P.fixed[i]) {
+            P.v[i] += (h * P.invM[i]) * P.f[i];
+            P.w[i] += (h * P.invI[i]) * P.t[i];
+            P.x[i] += dt * P.v[i];
+        }
+        P.f[i] = {};
+        P.t[i] = {};
+        if (haveRef) {
+            const double d2 = norm2(P.x[i] - x0[i]);
+            if (d2 > maxD2) maxD2 = d2;
+        }
     }
+    forcesZeroed_ = true;
+    return haveRef ? std::sqrt(maxD2) : 1e300;
 }
 
-void DPMBase::integrateSecondHalf() {
+bool DPMBase::integrateSecondHalf() {
     ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
     const double h = 0.5 * dt_;
+    const Vec3 g = gravity_;
+    const double gbt = gammaBt_, gbr = gammaBr_;
+    bool bad = false;
+#pragma omp parallel for schedule(static) reduction(|| : bad)
+    for (long i = 0; i < n; ++i) {
+        P.f[i] += P.m[i] * g - gbt * P.v[i];
+        P.t[i] -= gbr * P.w[i];
+        if (!P.fixed[i]) {
+            P.v[i] += (h * P.invM[i]) * P.f[i];
+            P.w[i] += (h * P.invI[i]) * P.t[i];
+        }
+        if (!std::isfinite(P.v[i].x + P.v[i].y + P.v[i].z + P.w[i].x + P.w[i].y + P.w[i].z)) bad = true;
+    }
+    return !bad;
+}
+
+void DPMBase::addBodyForces() {
+    ParticleData& P = particles_;
+    const long n = static_cast<long>(P.size());
+    const Vec3 g = gravity_;
+    const double gbt = gammaBt_, gbr = gammaBr_;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < n; ++i) {
-        if (P.fixed[i]) continue;
-        P.v[i] += (h * P.invM[i]) * P.f[i];
-        P.w[i] += (h * P.invI[i]) * P.t[i];
+        P.f[i] += P.m[i] * g - gbt * P.v[i];
+        P.t[i] -= gbr * P.w[i];
     }
 }
 
 void DPMBase::computeForces(bool record) {
     ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
+    if (!forcesZeroed_) {
 #pragma omp parallel for schedule(static)
-    for (long i = 0; i < n; ++i) {
-        P.f[i] = {};
-        P.t[i] = {};
+        for (long i = 0; i < n; ++i) {
+            P.f[i] = {};
+            P.t[i] = {};
+        }
     }
+    forcesZeroed_ = false;
     const std::size_t nWallEntries = neighbours_.wallParticle.size();
     if (wallForce_.size() < nWallEntries) {
         wallForce_.resize(nWallEntries);
@@ -305,14 +347,6 @@ void DPMBase::computeForces(bool record) {
     law_->computeWallForces(c);
     lastStepRecorded_ = record;
     computeAdditionalForces();
-    const Vec3 g = gravity_;
-    const double gbt = gammaBt_, gbr = gammaBr_;
-    if (g == Vec3{} && gbt == 0 && gbr == 0) return;
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < n; ++i) {
-        P.f[i] += P.m[i] * g - gbt * P.v[i];
-        P.t[i] -= gbr * P.w[i];
-    }
 }
 
 void DPMBase::gatherRecords() {
@@ -337,14 +371,9 @@ void DPMBase::refreshContacts() {
     particles_.t = std::move(savedT);
 }
 
-void DPMBase::checkFinite() {
+void DPMBase::reportNonFinite() {
     const ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
-    bool bad = false;
-#pragma omp parallel for reduction(|| : bad) schedule(static)
-    for (long i = 0; i < n; ++i)
-        if (!std::isfinite(P.v[i].x + P.v[i].y + P.v[i].z + P.w[i].x + P.w[i].y + P.w[i].z)) bad = true;
-    if (!bad) return;
     long first = 0;
     while (first < n && std::isfinite(P.v[first].x + P.v[first].y + P.v[first].z + P.w[first].x + P.w[first].y + P.w[first].z)) ++first;
     finishFiles();
@@ -383,8 +412,23 @@ void DPMBase::writeEneTimeStep(std::ostream& os) const {
        << ' ' << fmt(gravitationalEnergy()) << " nan";
 }
 
+bool DPMBase::outputNeedsContacts() const { return eneOutput_ || vtkOutput_ || fstatOutput_; }
+
+std::size_t DPMBase::countContacts() const {
+    const ParticleData& P = particles_;
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < neighbours_.pairCount(); ++k) {
+        const uint32_t i = neighbours_.pairI[k], j = neighbours_.pairJ[k];
+        Vec3 d = P.x[i] - P.x[j];
+        box_.minimumImage(d);
+        const double rs = P.r[i] + P.r[j];
+        if (norm2(d) < rs * rs) ++n;
+    }
+    return n;
+}
+
 void DPMBase::writeOutputFiles() {
-    if (!lastStepRecorded_) refreshContacts();
+    if (!lastStepRecorded_ && outputNeedsContacts()) refreshContacts();
     if (eneOutput_) writeEne();
     if (vtkOutput_) writeSnapshot();
     if (fstatOutput_) writeFstat();

@@ -119,6 +119,9 @@ public:
     void requestContacts() { recordRequested_ = true; }
     /// Recompute forces now at the current state with records (no time advance, histories untouched).
     void refreshContacts();
+    /// Number of particle-particle pairs in contact now (no records made).
+    std::size_t countContacts() const;
+    std::size_t neighbourPairs() const { return neighbours_.pairCount(); }
     long neighbourBuilds() const { return neighbours_.builds(); }
     std::size_t memoryBytes() const;
 
@@ -151,15 +154,17 @@ protected:
 private:
     void prepare(bool freshStart);
     void computeForces(bool record);
-    void integrateFirstHalf();
-    void integrateSecondHalf();
-    void checkFinite();
+    double integrateFirstHalf();
+    bool integrateSecondHalf();
+    void addBodyForces();
+    void reportNonFinite();
     void gatherRecords();
     void writeEne();
     void writeSnapshot();
     void writeFstat();
     void finishFiles();
     double outputInterval() const;
+    bool outputNeedsContacts() const;
 
     std::string name_, description_;
     ParameterSet params_;
@@ -196,6 +201,7 @@ private:
     bool recordRequested_ = false;
     bool lastStepRecorded_ = false;
     bool prepared_ = false;
+    bool forcesZeroed_ = false;
 
     // output state
     std::string eneBuffer_;

@@ -24,18 +24,8 @@ std::size_t NeighbourList::bytes() const {
            oldHistory_.capacity() * sizeof(double) + csrStart_.capacity() * sizeof(std::size_t);
 }
 
-bool NeighbourList::needsRebuild(const ParticleData& p, const PeriodicBox& box, const WallList& walls) const {
+bool NeighbourList::needsRebuild(double maxD, const ParticleData& p, const PeriodicBox& box, const WallList& walls) const {
     if (!valid_ || x0_.size() != p.size() || wallOffset0_.size() != walls.size()) return true;
-    const std::size_t n = p.size();
-    const Vec3* x = p.x.data();
-    const Vec3* x0 = x0_.data();
-    double maxD2 = 0;
-#pragma omp parallel for reduction(max : maxD2) schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-        const double d2 = norm2(x[i] - x0[i]);
-        if (d2 > maxD2) maxD2 = d2;
-    }
-    const double maxD = std::sqrt(maxD2);
     const double boxChange = box.lengthChange(0) + box.lengthChange(1) + box.lengthChange(2);
     const double s = skin();
     if (2 * maxD + boxChange >= s) return true;
@@ -45,6 +35,23 @@ bool NeighbourList::needsRebuild(const ParticleData& p, const PeriodicBox& box, 
 }
 
 namespace {
+struct ImageOffsets {
+    bool p[3];
+    double len[3], half[3];
+    explicit ImageOffsets(const PeriodicBox& b) {
+        for (int a = 0; a < 3; ++a) {
+            p[a] = b.periodic(a);
+            len[a] = b.length()[a];
+            half[a] = 0.5 * len[a];
+        }
+    }
+    inline void apply(double& dx, double& dy, double& dz) const {
+        if (p[0]) { if (dx > half[0]) dx -= len[0]; else if (dx < -half[0]) dx += len[0]; }
+        if (p[1]) { if (dy > half[1]) dy -= len[1]; else if (dy < -half[1]) dy += len[1]; }
+        if (p[2]) { if (dz > half[2]) dz -= len[2]; else if (dz < -half[2]) dz += len[2]; }
+    }
+};
+
 template <class T>
 void writeVec(std::ostream& os, const char* name, const std::vector<T>& v) {
     os << name << ' ' << v.size() << '\n';
@@ -186,10 +193,26 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     Vec3 invCell;
     for (int a = 0; a < 3; ++a) invCell[a] = nc[a] / extent[a];
 
-    // Slab axis: the one with most cells; cells are numbered slab-major.
-    int sa = 0;
-    for (int k = 1; k < 3; ++k) if (nc[k] > nc[sa]) sa = k;
-    const int sb = (sa + 1) % 3, sc = (sa + 2) % 3;
+    // Axis order of the cell numbering (slab axis outermost). Cells are traversed in this order, so
+    // it should follow the order of the particles in memory: an axis along which the particle index
+    // rarely steps backwards is "outer". This keeps the force loop streaming through memory for
+    // layered configurations (packings generated or inserted layer by layer).
+    long descents[3] = {0, 0, 0};
+    for (std::size_t i = 1; i < n; ++i)
+        for (int a = 0; a < 3; ++a)
+            if (p.x[i][a] < p.x[i - 1][a] - cutoff) ++descents[a];
+    int order[3] = {0, 1, 2};
+    std::sort(order, order + 3, [&](int a, int b) {
+        if (descents[a] != descents[b]) return descents[a] < descents[b];
+        return nc[a] > nc[b];
+    });
+    // The slab axis needs several cells for the parallel phases; otherwise take the longest axis.
+    if (nc[order[0]] < 4) {
+        int best = 0;
+        for (int k = 1; k < 3; ++k) if (nc[order[k]] > nc[order[best]]) best = k;
+        std::rotate(order, order + best, order + best + 1);
+    }
+    const int sa = order[0], sb = order[1], sc = order[2];
     const int nSlab = nc[sa];
     const std::size_t nCells = static_cast<std::size_t>(nc[0]) * nc[1] * nc[2];
     auto cellCoord = [&](const Vec3& xi, int a) {
@@ -216,6 +239,9 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     const bool perSlab = box.periodic(sa);
 
     // ---- pairs, per slab, in parallel ---------------------------------------------------------------
+    // Neither the stencil nor the owner rule may see a cell twice: nc = 2 along a periodic axis is
+    // excluded above (nc < 3 -> 1), so +-1 neighbours are distinct cells.
+    const ImageOffsets img(box);
     slabI_.resize(nSlab);
     slabJ_.resize(nSlab);
     const Vec3* x = p.x.data();
@@ -231,35 +257,33 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
                 const std::size_t c = cellIndex(s, cb, cc);
                 for (uint32_t ki = cellStart_[c]; ki < cellStart_[c + 1]; ++ki) {
                     const uint32_t i = cellList_[ki];
-                    const int si = s;
-                    // neighbour cells
-                    for (int da = -1; da <= 1; ++da) {
-                        if (nc[sa] == 1 && da != 0) continue;
+                    const Vec3 xi = x[i];
+                    const double ri = r[i];
+                    // Half stencil: this slab layer with the 2D half stencil (own cell: j > i), and
+                    // the full 3x3 block of the next slab. Every pair is found once, from the particle
+                    // in the lower slab, so it lands in that slab's list.
+                    for (int da = 0; da <= 1; ++da) {
+                        if (da == 1 && nSlab == 1) break;
                         int ca = s + da;
-                        if (ca < 0 || ca >= nc[sa]) { if (!perSlab) continue; ca = (ca + nc[sa]) % nc[sa]; }
+                        if (ca >= nSlab) { if (!perSlab) break; ca -= nSlab; }
                         for (int db = -1; db <= 1; ++db) {
                             if (nc[sb] == 1 && db != 0) continue;
-                            int cb2 = cb + db;
-                            if (cb2 < 0 || cb2 >= nc[sb]) { if (!box.periodic(sb)) continue; cb2 = (cb2 + nc[sb]) % nc[sb]; }
                             for (int dc = -1; dc <= 1; ++dc) {
                                 if (nc[sc] == 1 && dc != 0) continue;
+                                // in-layer half stencil: (0,0) own cell, (0,1), (1,-1), (1,0), (1,1)
+                                if (da == 0 && (db < 0 || (db == 0 && dc < 0))) continue;
+                                int cb2 = cb + db;
+                                if (cb2 < 0 || cb2 >= nc[sb]) { if (!box.periodic(sb)) continue; cb2 = (cb2 + nc[sb]) % nc[sb]; }
                                 int cc2 = cc + dc;
                                 if (cc2 < 0 || cc2 >= nc[sc]) { if (!box.periodic(sc)) continue; cc2 = (cc2 + nc[sc]) % nc[sc]; }
                                 const std::size_t c2 = cellIndex(ca, cb2, cc2);
-                                for (uint32_t kj = cellStart_[c2]; kj < cellStart_[c2 + 1]; ++kj) {
+                                const bool sameCell = c2 == c;
+                                for (uint32_t kj = sameCell ? ki + 1 : cellStart_[c2]; kj < cellStart_[c2 + 1]; ++kj) {
                                     const uint32_t j = cellList_[kj];
-                                    if (j == i) continue;
-                                    // owner: particle in the lower slab (cyclically); same slab -> lower index
-                                    const int sj = ca;
-                                    bool own;
-                                    if (sj == si) own = i < j;
-                                    else own = (sj == si + 1) || (perSlab && sj == 0 && si == nSlab - 1 && nSlab > 1);
-                                    if (nSlab == 2 && perSlab && sj != si) own = si == 0;  // both are "next"
-                                    if (!own) continue;
-                                    Vec3 d = x[i] - x[j];
-                                    box.minimumImage(d);
-                                    const double rc = r[i] + r[j] + skin;
-                                    if (norm2(d) < rc * rc) {
+                                    double dx = xi.x - x[j].x, dy = xi.y - x[j].y, dz = xi.z - x[j].z;
+                                    img.apply(dx, dy, dz);
+                                    const double rc = ri + r[j] + skin;
+                                    if (dx * dx + dy * dy + dz * dz < rc * rc) {
                                         li.push_back(std::min(i, j));
                                         lj.push_back(std::max(i, j));
                                     }

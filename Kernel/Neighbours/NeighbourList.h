@@ -27,8 +27,13 @@ public:
     void setSkin(double skin) { skin_ = skin; }
     double skin() const { return skinUsed_ > 0 ? skinUsed_ : skin_; }
 
-    /// True if the list must be rebuilt before the next force evaluation.
-    bool needsRebuild(const ParticleData& p, const PeriodicBox& box, const WallList& walls) const;
+    /// True if the list must be rebuilt before the next force evaluation. `maxDisplacement` is the
+    /// largest distance of a particle from its referencePositions() (computed by the caller, fused
+    /// with the integration).
+    bool needsRebuild(double maxDisplacement, const ParticleData& p, const PeriodicBox& box, const WallList& walls) const;
+    /// Particle positions at the last build.
+    const Vec3* referencePositions() const { return x0_.data(); }
+    std::size_t referenceCount() const { return valid_ ? x0_.size() : 0; }
     /// Wrap particles into the periodic box and rebuild pairs and wall lists, carrying contact
     /// histories over. `historySize` = doubles of history per contact (from the contact law).
     void build(ParticleData& p, PeriodicBox& box, const WallList& walls, int historySize);

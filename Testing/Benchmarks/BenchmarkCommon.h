@@ -47,15 +47,14 @@ private:
 
 inline void printSummary(const std::string& tag, DPMBase& d, long steps, double seconds, double solidVolume,
                          double domainVolume) {
-    d.refreshContacts();
-    long contacts = 0;
-    for (const auto& c : d.contacts())
-        if (c.j >= 0) ++contacts;
+    const long contacts = static_cast<long>(d.countContacts());
     const double n = static_cast<double>(d.particles().size());
     std::printf("%s end ke_J=%.6e contacts=%ld volume_fraction=%.4f\n", tag.c_str(), d.kineticEnergy(), contacts,
                 solidVolume / domainVolume);
     std::printf("%s threads=%d particle_steps_per_s=%.4e bytes_per_particle=%.0f\n", tag.c_str(), omp_get_max_threads(),
                 n * static_cast<double>(steps) / seconds, static_cast<double>(peakRssBytes()) / n);
+    std::fprintf(stderr, "%s: %zu neighbour pairs, %ld list builds, kernel data %.0f bytes/particle\n", tag.c_str(),
+                 d.neighbourPairs(), d.neighbourBuilds(), static_cast<double>(d.memoryBytes()) / n);
     std::fflush(stdout);
 }
 

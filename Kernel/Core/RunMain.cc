@@ -1,0 +1,49 @@
+#include "Core/RunMain.h"
+
+#include "Core/Error.h"
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+
+namespace pdpm {
+
+namespace {
+
+/// The message on a single line: newlines become "; ", trailing whitespace is dropped.
+std::string oneLine(const char* what) {
+    std::string s = what ? what : "";
+    std::string out;
+    out.reserve(s.size());
+    for (char c : s) {
+        if (c == '\n' || c == '\r') {
+            if (!out.empty() && out.back() != ' ') out += "; ";
+        } else {
+            out += c;
+        }
+    }
+    while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+    return out;
+}
+
+void report(const char* programName, const char* what) {
+    std::cout.flush();
+    std::cerr << (programName ? programName : "program") << ": error: " << oneLine(what) << std::endl;
+}
+
+} // namespace
+
+int runMain(const char* programName, const std::function<int()>& body) {
+    try {
+        return body();
+    } catch (const InputError& e) {
+        report(programName, e.what());
+        return kExitBadInput;
+    } catch (const std::exception& e) {
+        report(programName, e.what());
+        return 1;
+    }
+}
+
+} // namespace pdpm

@@ -1,0 +1,196 @@
+// Restart and thread-count determinism of the time loop:
+//  - 2N steps straight vs N steps -> RUN.restart -> a new program object with --restart -> N steps:
+//    bitwise-identical positions, velocities and angular velocities (frictional packing, walls, one
+//    periodic axis, so contact histories and the neighbour list matter);
+//  - the same run with 1 and 2 OpenMP threads is bitwise identical (dense frictional periodic packing,
+//    > 2000 particles, so the slab-parallel force loop is exercised).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "Contacts/ContactParameters.h"
+#include "Core/DPMBase.h"
+#include "Core/Parameters.h"
+#include "Walls/Wall.h"
+
+using namespace pdpm;
+
+namespace {
+
+constexpr double kR = 1e-3;
+constexpr double kDensity = 2000;
+
+/// Dense grid packing (spacing 2 r, radii in [0.97, 1.03] r, so most neighbours overlap slightly)
+/// with random velocities and spins; frictional linear law.
+class PackingDriver : public DPMBase {
+public:
+    PackingDriver(int nx, int ny, int nz, bool walls) : DPMBase("KernelPackingDriver"), n_{nx, ny, nz}, walls_(walls) {
+        parameters().add("steps", &steps_, 100L, "-", "number of time steps", Range::atLeast(1));
+        parameters().set("vtk", "0");
+    }
+    long stepsWanted() const { return steps_; }
+    void setUp() { setupInitialConditions(); }
+
+protected:
+    void setupInitialConditions() override {
+        const double m = 4.0 / 3.0 * std::numbers::pi * kR * kR * kR * kDensity;
+        const StiffnessDamping sd = stiffnessAndDamping(2e-4, 0.5, 0.5 * m);
+        ContactParameters p;
+        p.k = sd.k;
+        p.gamma = sd.gamma;
+        p.kt = 2.0 / 7.0 * p.k;
+        p.gammaT = 0.5 * p.gamma;
+        p.muS = 0.5;
+        p.muD = 0.4;
+        addSpecies("grain", kDensity, p);
+        const double s = 2 * kR;
+        const Vec3 hi{n_[0] * s, n_[1] * s, n_[2] * s};
+        setDomain({0, 0, 0}, hi, true, !walls_, !walls_);
+        if (walls_) {
+            addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 1, 0}, 0));
+            addWall(std::make_unique<PlaneWall>(Vec3{0, hi.y, 0}, Vec3{0, -1, 0}, 0));
+            addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, 0));
+            addWall(std::make_unique<PlaneWall>(Vec3{0, 0, hi.z}, Vec3{0, 0, -1}, 0));
+            setGravity({0, 0, -9.81});
+        }
+        std::uniform_real_distribution<double> ur(0.97 * kR, 1.03 * kR), uv(-0.05, 0.05), uw(-50, 50);
+        auto& rng = random();
+        for (int k = 0; k < n_[2]; ++k)
+            for (int j = 0; j < n_[1]; ++j)
+                for (int i = 0; i < n_[0]; ++i) {
+                    const double r = ur(rng);
+                    const Vec3 x{(i + 0.5) * s, (j + 0.5) * s, (k + 0.5) * s};
+                    const Vec3 v{uv(rng), uv(rng), uv(rng)};
+                    const Vec3 w{uw(rng), uw(rng), uw(rng)};
+                    addParticle(x, r, 0, v, w);
+                }
+        setTimeStep(suggestedTimeStep());
+        setTimeMax(static_cast<double>(steps_) * timeStep());
+    }
+    void actionsOnRestart() override { setTimeMax(static_cast<double>(steps_) * timeStep()); }
+
+private:
+    int n_[3];
+    bool walls_;
+    long steps_ = 0;
+};
+
+int runWith(DPMBase& d, std::vector<std::string> args) {
+    std::vector<char*> argv;
+    static char prog[] = "KernelPackingDriver";
+    argv.push_back(prog);
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    return d.run(static_cast<int>(args.size()) + 1, argv.data());
+}
+
+/// Number of components that differ bitwise.
+long countDifferences(const ParticleData& a, const ParticleData& b) {
+    if (a.size() != b.size()) return -1;
+    long diff = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            if (!(a.x[i][c] == b.x[i][c])) ++diff;
+            if (!(a.v[i][c] == b.v[i][c])) ++diff;
+            if (!(a.w[i][c] == b.w[i][c])) ++diff;
+        }
+    return diff;
+}
+
+double maxPositionDifference(const ParticleData& a, const ParticleData& b) {
+    double d = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, norm(a.x[i] - b.x[i]));
+    return d;
+}
+
+long frictionalContacts(DPMBase& d) {
+    d.refreshContacts();
+    long n = 0;
+    for (const auto& c : d.contacts())
+        if (norm(c.ft) > 0) ++n;
+    return n;
+}
+
+} // namespace
+
+TEST(KernelRestart, StraightAndRestartedRunsAreBitwiseIdentical) {
+    const std::string dir = "KernelRestartTest";
+    std::filesystem::remove_all(dir);
+    const long N = 300;
+    const std::vector<std::string> common = {"--output", dir, "--quiet", "--threads", "2"};
+    auto with = [&](std::vector<std::string> extra) {
+        std::vector<std::string> a = common;
+        a.insert(a.end(), extra.begin(), extra.end());
+        return a;
+    };
+
+    PackingDriver straight(8, 6, 6, true);
+    ASSERT_EQ(runWith(straight, with({"--name", "straight", "--steps", std::to_string(2 * N)})), 0);
+    ASSERT_EQ(straight.step(), 2 * N);
+
+    PackingDriver first(8, 6, 6, true);
+    ASSERT_EQ(runWith(first, with({"--name", "half", "--steps", std::to_string(N)})), 0);
+    ASSERT_EQ(first.step(), N);
+    const long sliding = frictionalContacts(first);
+    EXPECT_GT(sliding, 50) << "the packing should have many frictional contacts at the restart point";
+    const std::string restartFile = dir + "/half.restart";
+    ASSERT_TRUE(std::filesystem::exists(restartFile));
+
+    PackingDriver second(8, 6, 6, true);
+    ASSERT_EQ(runWith(second, with({"--name", "resumed", "--restart", restartFile, "--steps", std::to_string(2 * N)})), 0);
+    ASSERT_EQ(second.step(), 2 * N);
+    EXPECT_EQ(second.time(), straight.time());
+
+    const long diff = countDifferences(straight.particles(), second.particles());
+    std::printf("restart: %ld of %zu components differ, max |dx| = %.3e m, %ld frictional contacts at the restart\n",
+                diff, 9 * straight.particles().size(), maxPositionDifference(straight.particles(), second.particles()),
+                sliding);
+    EXPECT_EQ(diff, 0);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(KernelRestart, WriteAndReadRestartRoundTripsTheState) {
+    const std::string dir = "KernelRestartRoundTrip";
+    std::filesystem::remove_all(dir);
+    PackingDriver a(6, 5, 5, true);
+    ASSERT_EQ(runWith(a, {"--output", dir, "--quiet", "--name", "a", "--steps", "50"}), 0);
+    PackingDriver b(6, 5, 5, true);
+    b.readRestart(dir + "/a.restart");
+    EXPECT_EQ(countDifferences(a.particles(), b.particles()), 0);
+    EXPECT_EQ(b.time(), a.time());
+    EXPECT_EQ(b.step(), a.step());
+    EXPECT_EQ(b.timeStep(), a.timeStep());
+    std::filesystem::remove_all(dir);
+}
+
+TEST(KernelThreads, OneAndTwoThreadsAreBitwiseIdentical) {
+    const int saved = omp_get_max_threads();
+    auto runOnce = [](int threads) {
+        omp_set_num_threads(threads);
+        auto d = std::make_unique<PackingDriver>(16, 12, 12, false);  // 2304 particles, fully periodic
+        d->parameters().set("steps", "300");
+        d->parameters().set("ene", "0");
+        d->parameters().set("restart_output", "0");
+        d->setQuiet(true);
+        d->setUp();
+        d->solve();
+        return d;
+    };
+    auto one = runOnce(1);
+    auto two = runOnce(2);
+    omp_set_num_threads(saved);
+    ASSERT_EQ(one->particles().size(), 2304u);
+    EXPECT_EQ(one->step(), 300);
+    const long sliding = frictionalContacts(*one);
+    const long diff = countDifferences(one->particles(), two->particles());
+    std::printf("threads: %ld of %zu components differ (max |dx| = %.3e m), %ld frictional contacts\n", diff,
+                9 * one->particles().size(), maxPositionDifference(one->particles(), two->particles()), sliding);
+    EXPECT_GT(sliding, 1000);
+    EXPECT_EQ(diff, 0);
+}

@@ -1,0 +1,37 @@
+// Output helpers shared by the tools: atomic text files (written to NAME.tmp, renamed when
+// complete), CSV tables with a documented header, and VTK image data (.vti) for ParaView.
+#pragma once
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace pdpm::tools {
+
+/// Writes a file through `fill`, first to PATH.tmp, then renames it to PATH. InputError when the
+/// directory is not writable.
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& fill);
+
+/// Creates a directory (and parents); InputError on failure.
+void ensureDirectory(const std::string& dir);
+
+/// "dir/name" (no double slashes).
+std::string joinPath(const std::string& dir, const std::string& name);
+
+/// Formats a double with 10 significant digits (enough for post-processed fields).
+std::string fmt(double x);
+
+/// A named scalar or vector field on a regular image grid, values in x-fastest order.
+struct ImageField {
+    std::string name;
+    int components = 1;
+    std::vector<double> values;  ///< size = components * nx * ny * nz
+};
+
+/// Writes VTK XML ImageData (.vti, binary appended), readable by ParaView; atomic.
+/// `origin` is the centre of the first cell, `spacing` the cell size. Throws InputError when the
+/// library was built without VTK.
+void writeVti(const std::string& path, const int dims[3], const double origin[3],
+              const double spacing[3], const std::vector<ImageField>& fields, double time);
+
+} // namespace pdpm::tools

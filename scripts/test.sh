@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Builds and runs the fast test suite (everything except the labels "validation" and "benchmark").
+#   scripts/test.sh              normal suite, then the sanitizer suite (unit + selftest under
+#                                ASan/UBSan) unless PDPM_SKIP_SANITIZE=1
+#   scripts/test.sh --sanitize   only the sanitizer suite
+#   scripts/test.sh --quick      only the normal suite (no sanitizer build)
+# Exits non-zero if any test fails.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+sanitize_only=0
+quick=0
+for arg in "$@"; do
+  case "$arg" in
+    --sanitize) sanitize_only=1 ;;
+    --quick) quick=1 ;;
+    -h|--help) echo "usage: $0 [--sanitize] [--quick]"; exit 0 ;;
+    *) echo "test.sh: unknown argument '$arg' (usage: $0 [--sanitize] [--quick])" >&2; exit 2 ;;
+  esac
+done
+
+run_normal() {
+  scripts/build.sh
+  echo "== test.sh: normal suite (build/)" >&2
+  ctest --test-dir build --output-on-failure -j2 -LE 'validation|benchmark'
+}
+
+run_sanitize() {
+  scripts/build.sh --sanitize
+  echo "== test.sh: sanitizer suite (build-sanitize/, labels unit|selftest)" >&2
+  ASAN_OPTIONS=detect_leaks=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-sanitize --output-on-failure -j2 -L 'unit|selftest'
+}
+
+if [[ $sanitize_only -eq 1 ]]; then
+  run_sanitize
+  exit 0
+fi
+
+run_normal
+if [[ $quick -eq 0 && "${PDPM_SKIP_SANITIZE:-0}" != "1" ]]; then
+  run_sanitize
+fi
+echo "== test.sh: all tests passed" >&2
