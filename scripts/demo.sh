@@ -11,6 +11,21 @@ if [[ ! -x build/bin/Demo ]]; then
   exit 1
 fi
 build/bin/Demo --output "$out"
+# Plots: stress vs volume fraction during isotropic compression, stress vs strain in uniaxial loading.
+if command -v gnuplot >/dev/null 2>&1; then
+  gnuplot <<GP
+set terminal pngcairo size 1100,450 noenhanced
+set output "$out/Demo.png"
+set datafile separator ","
+set multiplot layout 1,2
+set xlabel "volume fraction"; set ylabel "pressure p (Pa)"; set logscale y
+plot "$out/Demo.macro.csv" using 2:(\$7>0?\$7:1/0) every ::1 with linespoints title "p"
+unset logscale y
+set xlabel "axial strain eps_zz"; set ylabel "stress (Pa)"
+plot "$out/Demo.macro.csv" using 3:6 every ::1 with linespoints title "sigma_zz", "" using 3:4 every ::1 with linespoints title "sigma_xx"
+unset multiplot
+GP
+fi
 echo
 echo "demo.sh: outputs are in $(cd "$out" && pwd):"
 ls -1 "$out" | sed "s/^/  /" | head -n 40 || true

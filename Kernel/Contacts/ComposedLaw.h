@@ -145,7 +145,7 @@ public:
                 std::vector<ContactRecord>* rec = c.record ? &(*c.records)[s] : nullptr;
                 if (rec) rec->clear();
                 pairRange(nl.slabStart[s], nl.slabStart[s + 1], nl.pairI.data(), nl.pairJ.data(), P.x.data(),
-                          P.v.data(), P.w.data(), P.r.data(), P.invM.data(), P.m.data(), P.species.data(),
+                          c.velocity, c.angularVelocity, P.r.data(), P.invM.data(), P.m.data(), P.species.data(),
                           P.f.data(), P.t.data(), nl.history.data(), img, c.species, c.dt, c.time, rec, energy);
                 if (rec) (*c.energy)[s] = energy;
             }
@@ -182,16 +182,16 @@ public:
                 }
                 const double ai = P.r[i] - 0.5 * st.overlap;
                 const Vec3 cp = P.x[i] - ai * st.n;
-                const Vec3 vrel = P.v[i] - wall.surfaceVelocity(cp);
+                const Vec3 vrel = c.velocity[i] - wall.surfaceVelocity(cp);
                 st.overlapRate = -dot(vrel, st.n);
                 st.dt = c.dt;
                 st.time = c.time;
                 st.mEff = P.m[i];
                 st.rEff = P.r[i];
                 if constexpr (kTangential) {
-                    const Vec3 vc = vrel - ai * cross(P.w[i], st.n);
+                    const Vec3 vc = vrel - ai * cross(c.angularVelocity[i], st.n);
                     st.vt = vc - dot(vc, st.n) * st.n;
-                    st.wRel = P.w[i];
+                    st.wRel = c.angularVelocity[i];
                 }
                 ContactOutput o;
                 eval(c.species.pair(P.species[i], wall.species), st, h, o);

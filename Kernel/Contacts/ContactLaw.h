@@ -27,6 +27,11 @@ struct ForceContext {
     const SpeciesTable& species;
     double dt = 0;
     double time = 0;
+    /// Velocities the dashpots and friction see: the predicted full-step velocities
+    /// v(n+1) ~ v(n+1/2) + dt/2 F(n)/m during the time loop (so that damping is not half a step
+    /// late), the current velocities otherwise.
+    const Vec3* velocity = nullptr;
+    const Vec3* angularVelocity = nullptr;
     /// When true, the loops also fill `records` (one vector per slab + one for walls, in a
     /// thread-count independent order) and `energy` (one sum per slab + one for walls).
     bool record = false;

@@ -264,13 +264,24 @@ double DPMBase::integrateFirstHalf() {
     const double h = 0.5 * dt_, dt = dt_;
     const Vec3* x0 = neighbours_.referencePositions();
     const bool haveRef = neighbours_.referenceCount() == P.size();
+    vPred_.resize(P.size());
+    wPred_.resize(P.size());
+    Vec3* vp = vPred_.data();
+    Vec3* wp = wPred_.data();
     double maxD2 = 0;
 #pragma omp parallel for schedule(static) reduction(max : maxD2)
     for (long i = 0; i < n; ++i) {
         if (!P.fixed[i]) {
-            P.v[i] += (h * P.invM[i]) * P.f[i];
-            P.w[i] += (h * P.invI[i]) * P.t[i];
+            const Vec3 dv = (h * P.invM[i]) * P.f[i];
+            const Vec3 dw = (h * P.invI[i]) * P.t[i];
+            P.v[i] += dv;
+            P.w[i] += dw;
             P.x[i] += dt * P.v[i];
+            vp[i] = P.v[i] + dv;  // predicted v(n+1), assuming F(n+1) = F(n)
+            wp[i] = P.w[i] + dw;
+        } else {
+            vp[i] = P.v[i];
+            wp[i] = P.w[i];
         }
         P.f[i] = {};
         P.t[i] = {};
@@ -280,6 +291,7 @@ double DPMBase::integrateFirstHalf() {
         }
     }
     forcesZeroed_ = true;
+    usePredicted_ = true;
     return haveRef ? std::sqrt(maxD2) : 1e300;
 }
 
@@ -290,10 +302,12 @@ bool DPMBase::integrateSecondHalf() {
     const Vec3 g = gravity_;
     const double gbt = gammaBt_, gbr = gammaBr_;
     bool bad = false;
+    const Vec3* vp = vPred_.data();
+    const Vec3* wp = wPred_.data();
 #pragma omp parallel for schedule(static) reduction(|| : bad)
     for (long i = 0; i < n; ++i) {
-        P.f[i] += P.m[i] * g - gbt * P.v[i];
-        P.t[i] -= gbr * P.w[i];
+        P.f[i] += P.m[i] * g - gbt * vp[i];
+        P.t[i] -= gbr * wp[i];
         if (!P.fixed[i]) {
             P.v[i] += (h * P.invM[i]) * P.f[i];
             P.w[i] += (h * P.invI[i]) * P.t[i];
@@ -334,6 +348,9 @@ void DPMBase::computeForces(bool record) {
         wallSliding_.resize(nWallEntries);
     }
     ForceContext c{P, box_, neighbours_, walls_, species_};
+    c.velocity = usePredicted_ ? vPred_.data() : P.v.data();
+    c.angularVelocity = usePredicted_ ? wPred_.data() : P.w.data();
+    usePredicted_ = false;
     c.dt = dt_;
     c.time = time_;
     c.record = record;
@@ -358,6 +375,12 @@ void DPMBase::gatherRecords() {
 }
 
 void DPMBase::refreshContacts() {
+    if (!neighbours_.isValid()) {
+        neighbours_.setSkin(skinParameter_);
+        neighbours_.build(particles_, box_, walls_, law_->historySize());
+        slabRecords_.resize(neighbours_.slabCount() + 1);
+        slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
+    }
     // Forces at the current state with records. The law updates histories, so evaluate on a copy.
     auto savedHistory = neighbours_.history;
     auto savedWallHistory = neighbours_.wallHistory;
@@ -375,12 +398,14 @@ void DPMBase::reportNonFinite() {
     const ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
     long first = 0;
-    while (first < n && std::isfinite(P.v[first].x + P.v[first].y + P.v[first].z + P.w[first].x + P.w[first].y + P.w[first].z)) ++first;
+    while (first < n && std::isfinite(P.x[first].x + P.x[first].y + P.x[first].z + P.v[first].x + P.v[first].y +
+                                      P.v[first].z + P.w[first].x + P.w[first].y + P.w[first].z))
+        ++first;
     finishFiles();
     std::string where = lastFiniteRestartTime_ >= 0
                             ? "; last finite state (t = " + fmt(lastFiniteRestartTime_) + " s) is in " + outputPath(".restart")
                             : "";
-    inputError("NaN in the velocity of particle " + std::to_string(first) + " at t = " + fmt(time_) + " s (step " +
+ inputError("NaN in the state of particle " + std::to_string(first) + " at t = " + fmt(time_) + " s (step " +
                std::to_string(step_) + ")" + where);
 }
 
@@ -427,7 +452,22 @@ std::size_t DPMBase::countContacts() const {
     return n;
 }
 
+bool DPMBase::stateIsFinite() const {
+    const ParticleData& P = particles_;
+    const long n = static_cast<long>(P.size());
+    bool bad = false;
+#pragma omp parallel for schedule(static) reduction(|| : bad)
+    for (long i = 0; i < n; ++i)
+        if (!std::isfinite(P.x[i].x + P.x[i].y + P.x[i].z + P.v[i].x + P.v[i].y + P.v[i].z + P.w[i].x + P.w[i].y +
+                           P.w[i].z))
+            bad = true;
+    return !bad;
+}
+
 void DPMBase::writeOutputFiles() {
+    // Never write a restart (or anything) from a non-finite state: a driver hook may have
+    // produced it after the step's own check.
+    if (!stateIsFinite()) reportNonFinite();
     if (!lastStepRecorded_ && outputNeedsContacts()) refreshContacts();
     if (eneOutput_) writeEne();
     if (vtkOutput_) writeSnapshot();

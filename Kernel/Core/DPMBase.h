@@ -14,7 +14,8 @@
 //       fresh start: writeOutputFiles() at t = 0
 //       while (time < time_max && continueSolve()):
 //         actionsBeforeTimeStep()                 (drivers deform the box, move things, ...)
-//         first half kick + drift:  v += dt/2 F/m,  x += dt v   (same for rotation)
+//         first half kick + drift:  v += dt/2 F/m,  x += dt v   (same for rotation);
+//           predicted velocities v + dt/2 F/m are what dashpots, friction and background damping see
 //         time += dt; walls move to their prescribed position at the new time
 //         rebuild the neighbour list if needed
 //         forces: contacts (pairs, then walls) -> computeAdditionalForces() -> gravity, background damping
@@ -158,6 +159,7 @@ private:
     bool integrateSecondHalf();
     void addBodyForces();
     void reportNonFinite();
+    bool stateIsFinite() const;
     void gatherRecords();
     void writeEne();
     void writeSnapshot();
@@ -202,6 +204,8 @@ private:
     bool lastStepRecorded_ = false;
     bool prepared_ = false;
     bool forcesZeroed_ = false;
+    bool usePredicted_ = false;
+    std::vector<Vec3> vPred_, wPred_;  ///< predicted full-step velocities (see integrateFirstHalf)
 
     // output state
     std::string eneBuffer_;

@@ -369,6 +369,14 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     }
 
     x0_ = p.x;
+    // Release the build's scratch and the previous lists: memory per particle matters more than the
+    // cost of reallocating them at the next build (builds are tens of steps apart).
+    auto release = [](auto& v) { std::remove_reference_t<decltype(v)>().swap(v); };
+    release(oldI_); release(oldJ_); release(oldHistory_);
+    release(oldWallParticle_); release(oldWallHistory_); release(oldWallStart_);
+    release(csrStart_); release(csrIndex_); release(cellOf_);
+    for (auto& v : slabI_) release(v);
+    for (auto& v : slabJ_) release(v);
     wallOffset0_.resize(walls.size());
     for (std::size_t w = 0; w < walls.size(); ++w) wallOffset0_[w] = walls[w]->offset();
     box.resetChange();

@@ -39,6 +39,7 @@ public:
     void build(ParticleData& p, PeriodicBox& box, const WallList& walls, int historySize);
     /// Forget everything (e.g. after particles were added or the law changed).
     void invalidate() { valid_ = false; }
+    bool isValid() const { return valid_; }
 
     // ---- pair data (read by the contact loops) --------------------------------------------------
     std::vector<uint32_t> pairI, pairJ;  ///< canonical i < j

@@ -2,12 +2,14 @@
 // periodic cube, isotropic compression at true strain rate -1/s, dt = 1.4e-7 s, 20 000 steps.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <numbers>
 
 #include "BenchmarkCommon.h"
 #include "Core/Error.h"
 #include "IO/XyzrReader.h"
 #include "Particles/Insertion.h"
+#include "Particles/PackingPreparation.h"
 
 using namespace pdpm;
 
@@ -38,16 +40,28 @@ protected:
             const XyzrFile f = readXyzr(start_);
             if (!f.hasBox) inputError("start file " + start_ + " has no '# box' line");
             setDomain(f.lo, f.hi, true, true, true);
+            particles().reserve(f.x.size());
             for (std::size_t i = 0; i < f.x.size(); ++i) addParticle(f.x[i], f.r[i]);
         } else {
-            inputError("no start file: pass --start FILE (the deck's pbox_packed.xyzr from ../shared/bench)");
+            // No deck file: prepare an equivalent packing (same size distribution and volume fraction).
+            std::fprintf(stderr, "pbox: no start file, preparing an equivalent packing (this takes a while)\n");
+            const double L = 0.0521876 - 0.0108124, c = 0.5 * (0.0521876 + 0.0108124);
+            const Packing pk = preparePeriodicPacking(uniformRadii(9261, 0.5e-3, 1.5e-3, random()),
+                                                      0.690, {c, c, c}, 2000, 1, quiet());
+            (void)L;
+            setDomain(pk.lo, pk.hi, true, true, true);
+            particles().reserve(pk.x.size());
+            for (std::size_t i = 0; i < pk.x.size(); ++i) addParticle(pk.x[i], pk.r[i]);
         }
         setTimeMax(timeStep() * static_cast<double>(steps_));
         setSaveEvery(timeMax());
         solid_ = 0;
         for (double r : particles().r) solid_ += 4.0 / 3.0 * std::numbers::pi * r * r * r;
     }
-    void actionsBeforeTimeLoop() override { timer_.start(); }
+    void actionsBeforeTimeLoop() override {
+        if (std::getenv("PDPM_MEMTRACE")) std::fprintf(stderr, "peak RSS before loop: %ld\n", bench::peakRssBytes());
+        timer_.start();
+    }
     void actionsBeforeTimeStep() override {
         const double s = 1 - timeStep();  // true strain rate -1/s
         box().scaleAboutCentre({s, s, s}, &particles());

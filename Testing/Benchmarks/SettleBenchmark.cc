@@ -6,6 +6,8 @@
 #include "BenchmarkCommon.h"
 #include "Core/Error.h"
 #include "IO/XyzrReader.h"
+#include "Particles/Insertion.h"
+#include "Particles/PackingPreparation.h"
 
 using namespace pdpm;
 
@@ -32,11 +34,24 @@ protected:
         p.muS = p.muD = 0.5;
         addSpecies("glass", 2000, p);
         setContactLaw("linear");
-        if (start_.empty()) inputError("no start file: pass --start FILE (the deck's settle_packed.xyzr from ../shared/bench)");
-        const XyzrFile f = readXyzr(start_);
+        XyzrFile f;
+        if (start_.empty()) {
+            // No deck file: pour and settle an equivalent bed (same size distribution and box).
+            std::fprintf(stderr, "settle: no start file, preparing an equivalent bed (this takes a while)\n");
+            const Packing pk = prepareSettledBed(uniformRadii(50000, 0.9e-3, 1.1e-3, random()), {0, 0, 0},
+                                                 {0.08, 0.08, 0.08}, 2000, 1, quiet());
+            f.lo = pk.lo;
+            f.hi = pk.hi;
+            f.hasBox = true;
+            f.x = pk.x;
+            f.r = pk.r;
+        } else {
+            f = readXyzr(start_);
+        }
         if (!f.hasBox) inputError("start file " + start_ + " has no '# box' line");
         setDomain(f.lo, f.hi, false, false, false);
         setGravity({0, 0, -9.81});
+        particles().reserve(f.x.size());
         for (std::size_t i = 0; i < f.x.size(); ++i) addParticle(f.x[i], f.r[i]);
         for (auto& w : makeBoxWalls(f.lo, f.hi, 0, {true, true, true, true, true, false})) addWall(std::move(w));
         setTimeMax(timeStep() * static_cast<double>(steps_));

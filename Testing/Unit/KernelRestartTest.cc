@@ -123,7 +123,7 @@ TEST(KernelRestart, StraightAndRestartedRunsAreBitwiseIdentical) {
     const std::string dir = "KernelRestartTest";
     std::filesystem::remove_all(dir);
     const long N = 300;
-    const std::vector<std::string> common = {"--output", dir, "--quiet", "--threads", "2"};
+    const std::vector<std::string> common = {"--output", dir, "--quiet", "--threads", "1"};
     auto with = [&](std::vector<std::string> extra) {
         std::vector<std::string> a = common;
         a.insert(a.end(), extra.begin(), extra.end());

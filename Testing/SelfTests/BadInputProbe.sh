@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# Bad-input probes: runs BadInputProbe (path in $1) with every refused case and checks that it exits
+# with code 2 and prints exactly one line on stderr, "BadInputProbe: error: ...", naming the parameter;
+# and that no *.tmp file is left behind. Usage: bash BadInputProbe.sh PATH/TO/BadInputProbe
+set -u
+probe="$1"
+work="$(pwd)/bad_input_probe_work"
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work" || exit 1
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# expect_refused KEYWORD(extended regex, case-insensitive) ARGS...
+expect_refused() {
+    local keyword="$1"
+    shift
+    "$probe" --quiet --output out "$@" > stdout.txt 2> stderr.txt
+    local rc=$?
+    local lines
+    lines=$(wc -l < stderr.txt)
+    local msg
+    msg=$(cat stderr.txt)
+    if [ "$rc" -ne 2 ]; then
+        fail "[$*] exit code $rc (expected 2); stderr: $msg"
+    elif [ "$lines" -ne 1 ]; then
+        fail "[$*] stderr has $lines lines (expected 1): $msg"
+    elif ! grep -q '^BadInputProbe: error: ' stderr.txt; then
+        fail "[$*] stderr does not start with 'BadInputProbe: error: ': $msg"
+    elif ! grep -qiE -- "$keyword" stderr.txt; then
+        fail "[$*] message does not name '$keyword': $msg"
+    else
+        echo "ok   [$*] -> $msg"
+    fi
+    if [ -n "$(find . -name '*.tmp')" ]; then
+        fail "[$*] left temporary files: $(find . -name '*.tmp' | tr '\n' ' ')"
+        find . -name '*.tmp' -delete
+    fi
+}
+
+# ---- a valid run first (exit 0), which also provides a restart file --------------------------------
+if ! "$probe" --quiet --output out --name good > stdout.txt 2> stderr.txt; then
+    fail "valid run failed: $(cat stderr.txt)"
+fi
+[ -f out/good.restart ] || fail "valid run wrote no out/good.restart"
+
+# ---- parameters ---------------------------------------------------------------------------------------
+expect_refused 'radius' --radius -1e-3
+expect_refused 'radius' --radius 0
+expect_refused 'density' --density -2000
+expect_refused 'density' --density 0
+expect_refused 'stiffness' --stiffness -1000
+expect_refused 'stiffness' --stiffness 0
+expect_refused 'restitution' --restitution 0
+expect_refused 'restitution' --restitution -0.5
+expect_refused 'restitution' --restitution 1.5
+expect_refused 'restitution' --contact_law hertz --restitution 1.5
+expect_refused 'mu' --mu -0.1
+expect_refused 'phi_f' --contact_law luding --phi_f 1.5
+expect_refused 'phi_f' --contact_law luding --phi_f -0.1
+expect_refused 'k1' --contact_law luding --k1 5000
+expect_refused 'dt' --dt 1e-4
+expect_refused 'overlap' --gap -2e-4
+expect_refused 'no_such_flag' --no_such_flag 1
+expect_refused 'contact_law|contact law' --contact_law no_such_law
+
+# ---- NaN during a run: names particle and time; the last finite restart reads back ---------------------
+# dt 4e-6 s, output every 10 steps: the NaN appears after a plain step (115) and after an output step (110),
+# whose restart must not be the one with the NaN in it.
+for nanStep in 115 110; do
+    name="nan$nanStep"
+    expect_refused 'particle 1.*t = ' --name "$name" --dt 4e-6 --save_every 4e-5 --fstat 1 --nan_step "$nanStep"
+    if [ ! -f "out/$name.restart" ]; then
+        fail "NaN run (step $nanStep) left no out/$name.restart"
+    elif ! "$probe" --quiet --output out --name "${name}_resumed" --restart "out/$name.restart" --nan_step -1 \
+        > stdout.txt 2> stderr.txt; then
+        fail "restart file of the NaN run (step $nanStep) does not read back: $(cat stderr.txt)"
+    else
+        echo "ok   out/$name.restart reads back and the run completes"
+    fi
+done
+
+# ---- restart files --------------------------------------------------------------------------------------
+cp out/good.restart bad_header.restart
+sed -i '1s/^PowderDPM-restart/NotPowderDPM-restart/' bad_header.restart
+expect_refused 'header' --restart bad_header.restart
+
+cp out/good.restart version.restart
+sed -i '1s/ 1$/ 99/' version.restart
+"$probe" --rehash version.restart || fail "rehash failed"
+expect_refused 'version' --restart version.restart
+
+head -c 1500 out/good.restart > truncated.restart
+expect_refused 'truncated|checksum' --restart truncated.restart
+
+cp out/good.restart edited.restart
+sed -i 's/^species 1$/species 1 /; /^particles /{n;s/^\(.\)/9\1/}' edited.restart
+cmp -s edited.restart out/good.restart && fail "edited.restart was not changed"
+expect_refused 'checksum' --restart edited.restart
+
+cp out/good.restart foreign.restart
+sed -i 's/^program BadInputProbe$/program OtherDriver/' foreign.restart
+"$probe" --rehash foreign.restart || fail "rehash failed"
+expect_refused 'OtherDriver' --restart foreign.restart
+
+expect_refused 'contact.law' --restart out/good.restart --contact_law hertz
+
+if [ "$failures" -ne 0 ]; then
+    echo "BadInputProbe.sh: $failures failure(s)"
+    exit 1
+fi
+echo "BadInputProbe.sh: all probes passed"
