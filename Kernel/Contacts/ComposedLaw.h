@@ -48,18 +48,26 @@ public:
     /// Box geometry copied into locals so that the compiler need not reload it in the hot loop.
     struct ImageInfo {
         bool p[3];
-        double len[3], half[3];
+        double len[3], half[3], inv[3];
         explicit ImageInfo(const PeriodicBox& b) {
             for (int a = 0; a < 3; ++a) {
                 p[a] = b.periodic(a);
                 len[a] = b.length()[a];
                 half[a] = 0.5 * len[a];
+                inv[a] = 1.0 / len[a];
             }
         }
         inline void apply(double& dx, double& dy, double& dz) const {
+#ifdef __SSE4_1__
+            // branch-free: one rounding instruction per axis
+            if (p[0]) dx -= len[0] * std::nearbyint(dx * inv[0]);
+            if (p[1]) dy -= len[1] * std::nearbyint(dy * inv[1]);
+            if (p[2]) dz -= len[2] * std::nearbyint(dz * inv[2]);
+#else
             if (p[0]) { if (dx > half[0]) dx -= len[0]; else if (dx < -half[0]) dx += len[0]; }
             if (p[1]) { if (dy > half[1]) dy -= len[1]; else if (dy < -half[1]) dy += len[1]; }
             if (p[2]) { if (dz > half[2]) dz -= len[2]; else if (dz < -half[2]) dz += len[2]; }
+#endif
         }
     };
 
@@ -166,7 +174,7 @@ public:
             Vec3* wf = c.wallForce->data();
             Vec3* wt = c.wallTorque->data();
             const Vec3 ref = wall.referencePoint();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (cnt > 4096)
             for (long q = 0; q < cnt; ++q) {
                 const std::size_t k = b + q;
                 const uint32_t i = nl.wallParticle[k];

@@ -3,6 +3,7 @@
 #include <map>
 
 #include "Contacts/ComposedLaw.h"
+#include "Contacts/RelaxationLaws.h"
 #include "Core/Error.h"
 
 namespace pdpm {
@@ -27,6 +28,9 @@ const std::map<std::string, Entry>& registry() {
         {"hertz-mindlin", law<NormalHertz, TangentialMindlin, NoPart, NoPart>("Hertz + Mindlin no-slip tangential with Coulomb sliding")},
         {"hertz-mindlin-rolling", law<NormalHertz, TangentialMindlin, RollingResistance, TorsionResistance>("Hertz-Mindlin + rolling and torsion friction")},
         {"luding", law<NormalLuding, TangentialCoulomb, RollingResistance, TorsionResistance>("Luding's hysteretic plastic-adhesive normal force (Eqs. 5.5-5.7) + sliding, rolling, torsion friction")},
+        {"linear-relax", law<Relaxing<NormalLinear>, TangentialCoulomb, NoPart, NoPart>("linear + sliding friction, with the time-dependent relaxation of Eq. 4.1 (relaxC, relaxT0, relaxTimeScale)")},
+        {"hertz-mindlin-relax", law<Relaxing<NormalHertz>, TangentialMindlin, NoPart, NoPart>("Hertz-Mindlin with the time-dependent relaxation of Eq. 4.1")},
+        {"luding-relax", law<Relaxing<NormalLuding>, TangentialCoulomb, RollingResistance, TorsionResistance>("Luding + sliding, rolling, torsion friction, with the time-dependent relaxation of Eq. 4.1")},
     };
     return r;
 }

@@ -36,6 +36,9 @@ struct ContactParameters {
     // ---- time-dependent relaxation (issue: OedometerRelaxation); C = 0 switches it off
     double relaxC = 0;
     double relaxT0 = 1;
+    /// Lab seconds per DEM second: the relaxation clock advances by dt * relaxTimeScale (see
+    /// Contacts/RelaxationLaws.h). Only the slow relaxation physics reads it.
+    double relaxTimeScale = 1;
 };
 
 /// All numeric fields in a fixed order (restart files); `defined` first.
