@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "Boundaries/PeriodicBox.h"
+#include "Boundaries/MinimumImage.h"
 #include "Contacts/ContactLaw.h"
 #include "Contacts/TangentialLaws.h"
 #include "Particles/ParticleData.h"
@@ -45,38 +45,12 @@ public:
         eval(p, s, h, o);
     }
 
-    /// Box geometry copied into locals so that the compiler need not reload it in the hot loop.
-    struct ImageInfo {
-        bool p[3];
-        double len[3], half[3], inv[3];
-        explicit ImageInfo(const PeriodicBox& b) {
-            for (int a = 0; a < 3; ++a) {
-                p[a] = b.periodic(a);
-                len[a] = b.length()[a];
-                half[a] = 0.5 * len[a];
-                inv[a] = 1.0 / len[a];
-            }
-        }
-        inline void apply(double& dx, double& dy, double& dz) const {
-#ifdef __SSE4_1__
-            // branch-free: one rounding instruction per axis
-            if (p[0]) dx -= len[0] * std::nearbyint(dx * inv[0]);
-            if (p[1]) dy -= len[1] * std::nearbyint(dy * inv[1]);
-            if (p[2]) dz -= len[2] * std::nearbyint(dz * inv[2]);
-#else
-            if (p[0]) { if (dx > half[0]) dx -= len[0]; else if (dx < -half[0]) dx += len[0]; }
-            if (p[1]) { if (dy > half[1]) dy -= len[1]; else if (dy < -half[1]) dy += len[1]; }
-            if (p[2]) { if (dz > half[2]) dz -= len[2]; else if (dz < -half[2]) dz += len[2]; }
-#endif
-        }
-    };
-
     /// Forces of the pairs [k0, k1) of one slab. Restrict-qualified pointers: the arrays never alias.
     static void pairRange(std::size_t k0, std::size_t k1, const uint32_t* __restrict pi, const uint32_t* __restrict pj,
                           const Vec3* __restrict x, const Vec3* __restrict v, const Vec3* __restrict w,
                           const double* __restrict r, const double* __restrict invM, const double* __restrict m,
                           const int32_t* __restrict sp, Vec3* __restrict f, Vec3* __restrict t,
-                          double* __restrict hist, const ImageInfo img, const SpeciesTable& spt, double dt,
+                          double* __restrict hist, const MinimumImage img, const SpeciesTable& spt, double dt,
                           double time, std::vector<ContactRecord>* rec, double& energy) {
         const bool single = spt.size() == 1;
         const ContactParameters& p0 = spt.pair(0, 0);
@@ -143,7 +117,7 @@ public:
     void computePairForces(ForceContext& c) const override {
         ParticleData& P = c.particles;
         NeighbourList& nl = c.neighbours;
-        const ImageInfo img(c.box);
+        const MinimumImage img(c.box);
         for (const auto& phase : nl.phases) {
             const int nPhase = static_cast<int>(phase.size());
 #pragma omp parallel for schedule(dynamic, 1)

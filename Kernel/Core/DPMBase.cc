@@ -73,6 +73,10 @@ void DPMBase::setOutput(const std::string& dir, const std::string& runName) {
     runName_ = runName.empty() ? name_ : runName;
 }
 
+void DPMBase::disableFileOutput() {
+    for (const char* flag : {"vtk", "ene", "fstat", "restart_output"}) params_.set(flag, "0");
+}
+
 std::string DPMBase::outputPath(const std::string& suffix) const {
     return (std::filesystem::path(outDir_) / (runName_ + suffix)).string();
 }

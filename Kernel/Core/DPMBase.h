@@ -96,6 +96,9 @@ public:
     /// Path of an output file: DIR/RUN + suffix.
     std::string outputPath(const std::string& suffix) const;
     void setNeighbourSkin(double s) { neighbours_.setSkin(s); }
+    /// Switch off every output file (VTK, RUN.ene, RUN.fstat, RUN.restart): for internal runs
+    /// (packing preparation) and benchmarks.
+    void disableFileOutput();
     void setQuiet(bool q) { quiet_ = q; }
     bool quiet() const { return quiet_; }
     std::mt19937_64& random() { return rng_; }

@@ -9,7 +9,7 @@
 
 #include "IO/NumberFormat.h"
 
-#include "Boundaries/PeriodicBox.h"
+#include "Boundaries/MinimumImage.h"
 #include "Core/Error.h"
 #include "Particles/ParticleData.h"
 #include "Walls/Wall.h"
@@ -35,31 +35,6 @@ bool NeighbourList::needsRebuild(double maxD, const ParticleData& p, const Perio
 }
 
 namespace {
-struct ImageOffsets {
-    bool p[3];
-    double len[3], half[3], inv[3];
-    explicit ImageOffsets(const PeriodicBox& b) {
-        for (int a = 0; a < 3; ++a) {
-            p[a] = b.periodic(a);
-            len[a] = b.length()[a];
-            half[a] = 0.5 * len[a];
-            inv[a] = 1.0 / len[a];
-        }
-    }
-    inline void apply(double& dx, double& dy, double& dz) const {
-#ifdef __SSE4_1__
-        // branch-free: one rounding instruction per axis
-        if (p[0]) dx -= len[0] * std::nearbyint(dx * inv[0]);
-        if (p[1]) dy -= len[1] * std::nearbyint(dy * inv[1]);
-        if (p[2]) dz -= len[2] * std::nearbyint(dz * inv[2]);
-#else
-        if (p[0]) { if (dx > half[0]) dx -= len[0]; else if (dx < -half[0]) dx += len[0]; }
-        if (p[1]) { if (dy > half[1]) dy -= len[1]; else if (dy < -half[1]) dy += len[1]; }
-        if (p[2]) { if (dz > half[2]) dz -= len[2]; else if (dz < -half[2]) dz += len[2]; }
-#endif
-    }
-};
-
 template <class T>
 void writeVec(std::ostream& os, const char* name, const std::vector<T>& v) {
     os << name << ' ' << v.size() << '\n';
@@ -255,7 +230,7 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     // ---- pairs, per slab, in parallel ---------------------------------------------------------------
     // Neither the stencil nor the owner rule may see a cell twice: nc = 2 along a periodic axis is
     // excluded above (nc < 3 -> 1), so +-1 neighbours are distinct cells.
-    const ImageOffsets img(box);
+    const MinimumImage img(box);
     slabI_.resize(nSlab);
     slabJ_.resize(nSlab);
     const Vec3* x = p.x.data();

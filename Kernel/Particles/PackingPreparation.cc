@@ -33,9 +33,7 @@ public:
                        uint64_t seed)
         : DPMBase("PackingPreparation"), radii_(radii), target_(target), centre_(centre), density_(density) {
         random().seed(seed);
-        parameters().set("vtk", "0");
-        parameters().set("ene", "0");
-        parameters().set("restart_output", "0");
+        disableFileOutput();
     }
     void setup() {
         const double rMin = *std::min_element(radii_.begin(), radii_.end());
@@ -73,9 +71,7 @@ public:
     BedSettler(const std::vector<double>& radii, const Vec3& lo, const Vec3& hi, double density, uint64_t seed)
         : DPMBase("PackingPreparation"), radii_(radii), lo_(lo), hi_(hi), density_(density) {
         random().seed(seed);
-        parameters().set("vtk", "0");
-        parameters().set("ene", "0");
-        parameters().set("restart_output", "0");
+        disableFileOutput();
     }
     void setup() {
         const double rMin = *std::min_element(radii_.begin(), radii_.end());

@@ -1,4 +1,5 @@
-// Shared pieces of the benchmark drivers: timing of the time loop and the two summary lines
+// Shared pieces of the benchmark drivers (decks of ../shared/bench/README.md): the deck's contact
+// law, the start file, timing of the time loop only, and the two summary lines
 //   CASE end ke_J=K contacts=M volume_fraction=V
 //   CASE threads=T particle_steps_per_s=X bytes_per_particle=Y
 #pragma once
@@ -6,11 +7,16 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include "Core/DPMBase.h"
+#include "Core/Error.h"
+#include "IO/NumberFormat.h"
+#include "IO/XyzrReader.h"
 
 namespace pdpm::bench {
 
@@ -34,28 +40,67 @@ inline std::string defaultStartFile(const std::string& name) {
     return std::filesystem::exists(p) ? p.lexically_normal().string() : std::string();
 }
 
-class LoopTimer {
+/// A benchmark deck: the deck's contact law (both decks), --start and --steps, the deck's time
+/// step, no output files; the time loop is timed and the summary printed after it.
+class DeckBenchmark : public DPMBase {
 public:
-    void start() { t0_ = std::chrono::steady_clock::now(); }
-    void stop() { seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
-    double seconds() const { return seconds_; }
+    DeckBenchmark(const std::string& program, const std::string& description, const std::string& tag,
+                  const std::string& startFile, long steps, double dt)
+        : DPMBase(program, description), tag_(tag) {
+        parameters().add("start", &start_, defaultStartFile(startFile),
+                         "start file (*.xyzr); empty: prepare an equivalent configuration");
+        parameters().add("steps", &steps_, steps, "-", "number of time steps", Range::atLeast(1));
+        parameters().set("dt", fmt(dt));
+        parameters().set("time_max", "1");             // replaced by steps * dt
+        parameters().set("max_initial_overlap", "1");  // the decks are compressed packings
+        disableFileOutput();
+    }
 
-private:
+protected:
+    /// Deck contact law: k_n = 1e5 N/m, absolute gamma_n = 0.28 kg/s, k_t = 2/7 k_n, mu = 0.5.
+    void addDeckSpecies() {
+        ContactParameters p;
+        p.k = 1.0e5;
+        p.gamma = 0.28;
+        p.kt = 2.0 / 7.0 * p.k;
+        p.muS = p.muD = 0.5;
+        addSpecies("glass", 2000, p);
+        setContactLaw("linear");
+    }
+    void addParticles(const std::vector<Vec3>& x, const std::vector<double>& r) {
+        particles().reserve(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) addParticle(x[i], r[i]);
+        solid_ = 0;
+        for (double ri : r) solid_ += 4.0 / 3.0 * std::numbers::pi * ri * ri * ri;
+        setTimeMax(timeStep() * static_cast<double>(steps_));
+        setSaveEvery(timeMax());
+    }
+    /// Volume in which the volume fraction of the summary line is measured.
+    virtual double measuredVolume() const = 0;
+
+    void actionsBeforeTimeLoop() override {
+        if (std::getenv("PDPM_MEMTRACE"))
+            std::fprintf(stderr, "%s: peak RSS before the loop %ld bytes\n", tag_.c_str(), peakRssBytes());
+        t0_ = std::chrono::steady_clock::now();
+    }
+    void actionsAfterSolve() override {
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+        const long contacts = static_cast<long>(countContacts());
+        const double n = static_cast<double>(particles().size());
+        std::printf("%s end ke_J=%.6e contacts=%ld volume_fraction=%.4f\n", tag_.c_str(), kineticEnergy(), contacts,
+                    solid_ / measuredVolume());
+        std::printf("%s threads=%d particle_steps_per_s=%.4e bytes_per_particle=%.0f\n", tag_.c_str(),
+                    omp_get_max_threads(), n * static_cast<double>(step()) / seconds,
+                    static_cast<double>(peakRssBytes()) / n);
+        std::fprintf(stderr, "%s: %zu neighbour pairs, %ld list builds, kernel data %.0f bytes/particle\n",
+                     tag_.c_str(), neighbourPairs(), neighbourBuilds(), static_cast<double>(memoryBytes()) / n);
+        std::fflush(stdout);
+    }
+
+    std::string tag_, start_;
+    long steps_ = 0;
+    double solid_ = 0;
     std::chrono::steady_clock::time_point t0_;
-    double seconds_ = 0;
 };
-
-inline void printSummary(const std::string& tag, DPMBase& d, long steps, double seconds, double solidVolume,
-                         double domainVolume) {
-    const long contacts = static_cast<long>(d.countContacts());
-    const double n = static_cast<double>(d.particles().size());
-    std::printf("%s end ke_J=%.6e contacts=%ld volume_fraction=%.4f\n", tag.c_str(), d.kineticEnergy(), contacts,
-                solidVolume / domainVolume);
-    std::printf("%s threads=%d particle_steps_per_s=%.4e bytes_per_particle=%.0f\n", tag.c_str(), omp_get_max_threads(),
-                n * static_cast<double>(steps) / seconds, static_cast<double>(peakRssBytes()) / n);
-    std::fprintf(stderr, "%s: %zu neighbour pairs, %ld list builds, kernel data %.0f bytes/particle\n", tag.c_str(),
-                 d.neighbourPairs(), d.neighbourBuilds(), static_cast<double>(d.memoryBytes()) / n);
-    std::fflush(stdout);
-}
 
 } // namespace pdpm::bench
