@@ -1,5 +1,5 @@
 // Tutorial: spheres dropped into an open box settle under gravity.
-// Documentation/writing-a-driver.md walks through this file line by line. Two tests keep it
+// Documentation/writing-a-driver.md shows this file in full and explains it. Two tests keep it
 // working: tutorial_settling_column runs it, install_find_package builds a copy of it against an
 // installed PowderDPM.
 #include <cmath>

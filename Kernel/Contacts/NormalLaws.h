@@ -8,15 +8,16 @@
 #include "Contacts/ContactParameters.h"
 #include "Contacts/ContactState.h"
 #include "Core/Error.h"
+#include "IO/NumberFormat.h"
 
 namespace pdpm {
 
 namespace detail {
 inline void requirePositive(double v, const std::string& what, const std::string& who) {
-    if (!(v > 0) || !std::isfinite(v)) inputError(who + ": " + what + " must be > 0 (got " + std::to_string(v) + ")");
+    if (!(v > 0) || !std::isfinite(v)) inputError(who + ": " + what + " must be > 0 (got " + fmt(v) + ")");
 }
 inline void requireNonNegative(double v, const std::string& what, const std::string& who) {
-    if (!(v >= 0) || !std::isfinite(v)) inputError(who + ": " + what + " must be >= 0 (got " + std::to_string(v) + ")");
+    if (!(v >= 0) || !std::isfinite(v)) inputError(who + ": " + what + " must be >= 0 (got " + fmt(v) + ")");
 }
 } // namespace detail
 

@@ -42,6 +42,7 @@ DPMBase::DPMBase(std::string name, std::string description)
 DPMBase::~DPMBase() = default;
 
 void DPMBase::setContactLaw(const std::string& name) {
+    if (params_.wasSetOnCommandLine("contact_law")) return;  // --contact_law wins over the driver's choice
     params_.set("contact_law", name);
     law_ = makeContactLaw(name);
     neighbours_.invalidate();
@@ -71,6 +72,16 @@ std::size_t DPMBase::addWall(std::unique_ptr<Wall> w) {
 void DPMBase::setOutput(const std::string& dir, const std::string& runName) {
     outDir_ = dir.empty() ? "." : dir;
     runName_ = runName.empty() ? name_ : runName;
+}
+
+void DPMBase::setTimeStep(double dt) {
+    if (!params_.wasSetOnCommandLine("dt")) dt_ = dt;
+}
+void DPMBase::setTimeMax(double t) {
+    if (!params_.wasSetOnCommandLine("time_max")) timeMax_ = t;
+}
+void DPMBase::setSaveEvery(double dt) {
+    if (!params_.wasSetOnCommandLine("save_every")) saveEvery_ = dt;
 }
 
 void DPMBase::disableFileOutput() {
@@ -169,8 +180,12 @@ void DPMBase::prepare(bool freshStart) {
     if (!(timeMax_ > time_)) inputError("time_max (" + fmt(timeMax_) + " s) must exceed the current time " + fmt(time_) + " s");
     for (const auto& w : walls_) w->moveTo(time_);
 
-    neighbours_.setSkin(skinParameter_);
-    neighbours_.build(particles_, box_, walls_, law_->historySize());
+    // On a restart the neighbour list comes from the file, exactly as it was (pair order matters for
+    // bitwise continuation); it is rebuilt only on a fresh start.
+    if (freshStart || !neighbours_.isValid()) {
+        neighbours_.setSkin(skinParameter_);
+        neighbours_.build(particles_, box_, walls_, law_->historySize());
+    }
     slabRecords_.resize(neighbours_.slabCount() + 1);
     slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
 
@@ -195,8 +210,12 @@ void DPMBase::prepare(bool freshStart) {
         h << '\n';
         eneBuffer_ = h.str();
     }
-    const double every = outputInterval();
-    nextOutput_ = freshStart ? time_ : time_ + every;
+    if (freshStart) {
+        outputEvery_ = outputInterval();
+        nextOutput_ = time_;
+    } else if (saveEvery_ > 0) {
+        outputEvery_ = saveEvery_;  // --save_every given again on restart wins
+    }
     if (vtkOutput_ && snapshotWriterFactory() && !snapshotWriter_) snapshotWriter_ = snapshotWriterFactory()();
     if (freshStart) {
         const bool rec = outputNeedsContacts();
@@ -217,10 +236,10 @@ void DPMBase::solve() {
     if (!prepared_) prepare(true);
     progress_ = std::make_unique<ProgressReporter>(quiet_);
     actionsBeforeTimeLoop();
-    const double every = outputInterval();
+    const double every = outputEvery_ > 0 ? outputEvery_ : outputInterval();
     if (time_ >= nextOutput_ - 0.5 * dt_) {
-        writeOutputFiles();
         nextOutput_ += every;
+        writeOutputFiles();
     }
     progress_->start(time_, timeMax_);
     bool lastWasOutput = true;
@@ -244,8 +263,9 @@ void DPMBase::solve() {
         actionsAfterTimeStep();
         lastWasOutput = false;
         if (time_ >= nextOutput_ - 0.5 * dt_) {
-            writeOutputFiles();
+            // advance first, so that a restart written now continues the same output schedule
             while (nextOutput_ <= time_ + 0.5 * dt_) nextOutput_ += every;
+            writeOutputFiles();
             lastWasOutput = true;
         }
         progress_->update(time_, step_);
@@ -476,11 +496,11 @@ void DPMBase::writeOutputFiles() {
     if (eneOutput_) writeEne();
     if (vtkOutput_) writeSnapshot();
     if (fstatOutput_) writeFstat();
+    ++outputIndex_;  // before the restart file, so that a restarted run continues the numbering
     if (restartOutput_) {
         writeRestart(outputPath(".restart"));
         lastFiniteRestartTime_ = time_;
     }
-    ++outputIndex_;
 }
 
 void DPMBase::writeEne() {

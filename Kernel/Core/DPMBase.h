@@ -84,12 +84,14 @@ public:
     const Vec3& gravity() const { return gravity_; }
     /// Background damping: F = -gammaT v, torque = -gammaR w (Sec. 2.2.1).
     void setBackgroundDamping(double gammaT, double gammaR) { gammaBt_ = gammaT; gammaBr_ = gammaR; }
-    void setTimeStep(double dt) { dt_ = dt; }
+    // The setters below give the driver's value; a value given on the command line
+    // (--dt, --time_max, --save_every, --contact_law) wins over them.
+    void setTimeStep(double dt);
     double timeStep() const { return dt_; }
-    void setTimeMax(double t) { timeMax_ = t; }
+    void setTimeMax(double t);
     double timeMax() const { return timeMax_; }
     /// Time between outputs (0: 100 outputs over the run).
-    void setSaveEvery(double dt) { saveEvery_ = dt; }
+    void setSaveEvery(double dt);
     void setOutput(const std::string& dir, const std::string& runName);
     const std::string& outputDirectory() const { return outDir_; }
     const std::string& runName() const { return runName_; }
@@ -185,6 +187,7 @@ private:
     double dt_ = 0, time_ = 0, timeMax_ = 0, saveEvery_ = 0;
     long step_ = 0;
     double nextOutput_ = 0;
+    double outputEvery_ = 0;  ///< output interval fixed at the fresh start (restart files keep it)
     int outputIndex_ = 0;
     bool quiet_ = false;
     std::string outDir_ = ".", runName_;

@@ -15,7 +15,7 @@ namespace pdpm {
 
 namespace {
 constexpr const char* kMagic = "PowderDPM-restart";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;
 
 uint64_t fnv1a(const std::string& s) {
     uint64_t h = 1469598103934665603ull;
@@ -39,7 +39,7 @@ void DPMBase::writeRestart(const std::string& path) const {
     os << "program " << name_ << '\n';
     os << "law " << law_->name() << ' ' << law_->historySize() << '\n';
     os << "time " << fmt(time_) << " step " << step_ << " dt " << fmt(dt_) << '\n';
-    os << "output " << outputIndex_ << ' ' << fmt(nextOutput_) << '\n';
+    os << "output " << outputIndex_ << ' ' << fmt(nextOutput_) << ' ' << fmt(outputEvery_) << '\n';
     os << "rng " << rng_ << '\n';
     os << "gravity " << fmt(gravity_) << " damping " << fmt(gammaBt_) << ' ' << fmt(gammaBr_) << '\n';
     box_.write(os);
@@ -115,6 +115,7 @@ void DPMBase::readRestart(const std::string& path) {
     expect(is, "output", path);
     is >> outputIndex_;
     nextOutput_ = readDouble(is);
+    outputEvery_ = readDouble(is);
     expect(is, "rng", path);
     is >> rng_;
     expect(is, "gravity", path);
@@ -161,7 +162,11 @@ void DPMBase::readRestart(const std::string& path) {
     is >> nw;
     if (!is || nw > 100000) inputError("restart file " + path + ": malformed walls section");
     walls_.clear();
-    for (std::size_t k = 0; k < nw; ++k) walls_.push_back(Wall::read(is));
+    for (std::size_t k = 0; k < nw; ++k) {
+        walls_.push_back(Wall::read(is));
+        if (walls_.back()->species < 0 || walls_.back()->species >= ns)
+            inputError("restart file " + path + ": wall " + std::to_string(k) + " has an undefined species");
+    }
     std::size_t n = 0;
     expect(is, "particles", path);
     is >> n;

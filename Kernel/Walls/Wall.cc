@@ -38,7 +38,7 @@ void Wall::write(std::ostream& os) const {
     os << type() << ' ' << species << ' ' << (label.empty() ? "-" : label) << ' ';
     writeGeometry(os);
     os << ' ' << fmt(offset_) << ' ' << fmt(velocity_) << ' ';
-    motion_.write(os);
+    motion_.write(os, offset_);
 }
 
 std::unique_ptr<Wall> Wall::read(std::istream& is) {

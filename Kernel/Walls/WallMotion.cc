@@ -46,6 +46,7 @@ Vec3 WallMotion::offset(double t) const {
         return amplitude * (0.5 * (1 - std::cos(2 * std::numbers::pi * frequency * s)));
     }
     case Kind::Custom: return customOffset ? customOffset(t) : Vec3{};
+    case Kind::Hold: return holdOffset;
     }
     return {};
 }
@@ -61,14 +62,18 @@ Vec3 WallMotion::velocityAt(double t) const {
         return amplitude * (0.5 * w * std::sin(w * s));
     }
     case Kind::Custom: return customVelocity ? customVelocity(t) : Vec3{};
+    case Kind::Hold: return {};
     }
     return {};
 }
 
-void WallMotion::write(std::ostream& os) const {
-    // Custom motions are written as static: the driver re-attaches them in actionsOnRestart().
-    const int k = kind == Kind::Custom ? 0 : static_cast<int>(kind);
-    os << k << ' ' << fmt(velocity) << ' ' << fmt(amplitude) << ' ' << fmt(frequency) << ' ' << fmt(t0);
+void WallMotion::write(std::ostream& os, const Vec3& currentOffset) const {
+    // Custom motions cannot be written: they become Hold at the current offset, and the driver
+    // re-attaches them in actionsOnRestart().
+    const bool custom = kind == Kind::Custom;
+    const int k = static_cast<int>(custom ? Kind::Hold : kind);
+    os << k << ' ' << fmt(velocity) << ' ' << fmt(amplitude) << ' ' << fmt(frequency) << ' ' << fmt(t0) << ' '
+       << fmt(custom ? currentOffset : holdOffset);
 }
 
 WallMotion WallMotion::read(std::istream& is) {
@@ -79,7 +84,8 @@ WallMotion WallMotion::read(std::istream& is) {
     m.amplitude = readVec3(is);
     m.frequency = readDouble(is);
     m.t0 = readDouble(is);
-    if (!is || k < 0 || k > 2) inputError("restart: malformed wall motion");
+    m.holdOffset = readVec3(is);
+    if (!is || k < 0 || k > 4 || k == 3) inputError("restart: malformed wall motion");
     m.kind = static_cast<Kind>(k);
     return m;
 }

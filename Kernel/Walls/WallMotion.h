@@ -9,12 +9,15 @@
 namespace pdpm {
 
 struct WallMotion {
-    enum class Kind { Static, ConstantVelocity, Cosine, Custom };
+    /// Hold: stays at `holdOffset` (a custom motion read back from a restart file keeps the wall
+    /// where it was until the driver re-attaches the motion in actionsOnRestart()).
+    enum class Kind { Static, ConstantVelocity, Cosine, Custom, Hold };
     Kind kind = Kind::Static;
     Vec3 velocity;      ///< ConstantVelocity: offset = velocity (t - t0)
     Vec3 amplitude;     ///< Cosine: offset = amplitude (1 - cos(2 pi f (t - t0))) / 2, Eq. (2.2)
     double frequency = 0;
     double t0 = 0;      ///< start time of the motion
+    Vec3 holdOffset;    ///< Hold: the fixed offset
     /// Custom: offset(t) and its derivative; not stored in restart files (set again in actionsOnRestart).
     std::function<Vec3(double)> customOffset, customVelocity;
 
@@ -26,7 +29,8 @@ struct WallMotion {
 
     Vec3 offset(double t) const;
     Vec3 velocityAt(double t) const;
-    void write(std::ostream& os) const;
+    /// Writes the motion; a Custom motion is written as Hold at `currentOffset`.
+    void write(std::ostream& os, const Vec3& currentOffset) const;
     static WallMotion read(std::istream& is);
 };
 

@@ -86,7 +86,7 @@ sed -i '1s/^PowderDPM-restart/NotPowderDPM-restart/' bad_header.restart
 expect_refused 'header' --restart bad_header.restart
 
 cp out/good.restart version.restart
-sed -i '1s/ 1$/ 99/' version.restart
+sed -i '1s/ [0-9]*$/ 99/' version.restart
 "$probe" --rehash version.restart || fail "rehash failed"
 expect_refused 'version' --restart version.restart
 
