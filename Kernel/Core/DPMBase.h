@@ -121,6 +121,8 @@ public:
     double elasticEnergy() const { return elasticEnergy_; }
     /// Contacts of the last step in which records were made (output steps, or after requestContacts()).
     const std::vector<ContactRecord>& contacts() const { return contactsFlat_; }
+    /// True if contacts() describes the current step (records were made during it).
+    bool contactsAreCurrent() const { return lastStepRecorded_; }
     /// Ask for contact records (and elastic energy) to be made during the next force evaluation.
     void requestContacts() { recordRequested_ = true; }
     /// Recompute forces now at the current state with records (no time advance, histories untouched).
@@ -133,7 +135,11 @@ public:
 
     // ---- output -----------------------------------------------------------------------------------
     void writeRestart(const std::string& path) const;
-    void readRestart(const std::string& path);
+    /// Read a restart file. With `stateOnly`, load just the configuration (particles, species, law,
+    /// walls, box, contact histories, time) from a file of any program, without parameters, driver
+    /// state or output schedule: for a driver that starts a new experiment from another driver's
+    /// state (call it in setupInitialConditions(); histories carry over into the fresh start).
+    void readRestart(const std::string& path, bool stateOnly = false);
 
 protected:
     // ---- hooks (see the order above) ----------------------------------------------------------

@@ -76,7 +76,7 @@ void DPMBase::writeRestart(const std::string& path) const {
     writeWholeFile(path, body);
 }
 
-void DPMBase::readRestart(const std::string& path) {
+void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     const std::string text = readWholeFile(path);
     // Checksum line: the last line "end HEX".
     const std::size_t endPos = text.rfind("\nend ");
@@ -98,7 +98,8 @@ void DPMBase::readRestart(const std::string& path) {
     int hsize = 0;
     expect(is, "program", path);
     is >> prog;
-    if (prog != name_) inputError("restart file " + path + " was written by " + prog + ", not by " + name_);
+    if (prog != name_ && !stateOnly)
+        inputError("restart file " + path + " was written by " + prog + ", not by " + name_);
     expect(is, "law", path);
     is >> lawName >> hsize;
     if (params_.wasSetOnCommandLine("contact_law") && lawName_ != lawName)
@@ -113,9 +114,14 @@ void DPMBase::readRestart(const std::string& path) {
     expect(is, "dt", path);
     const double dtFile = readDouble(is);
     expect(is, "output", path);
-    is >> outputIndex_;
-    nextOutput_ = readDouble(is);
-    outputEvery_ = readDouble(is);
+    int outIndex = 0;
+    is >> outIndex;
+    const double nextOut = readDouble(is), outEvery = readDouble(is);
+    if (!stateOnly) {
+        outputIndex_ = outIndex;
+        nextOutput_ = nextOut;
+        outputEvery_ = outEvery;
+    }
     expect(is, "rng", path);
     is >> rng_;
     expect(is, "gravity", path);
@@ -132,9 +138,9 @@ void DPMBase::readRestart(const std::string& path) {
         is >> name;
         std::getline(is >> std::ws, value);
         if (value == "\"\"") value.clear();
-        if (params_.has(name) && !params_.wasSetOnCommandLine(name)) params_.set(name, value);
+        if (!stateOnly && params_.has(name) && !params_.wasSetOnCommandLine(name)) params_.set(name, value);
     }
-    if (!params_.wasSetOnCommandLine("dt")) dt_ = dtFile;
+    if (!stateOnly && !params_.wasSetOnCommandLine("dt")) dt_ = dtFile;
     law_ = std::move(law);
     lawName_ = lawName;
     int ns = 0;
@@ -194,6 +200,7 @@ void DPMBase::readRestart(const std::string& path) {
         std::getline(is >> std::ws, v);
     }
     if (!is) inputError("restart file " + path + ": truncated driver section");
+    if (stateOnly) return;
     loadDriverState(kv);
     // Energies written so far: keep the rows of RUN.ene up to the restart time.
     eneBuffer_.clear();

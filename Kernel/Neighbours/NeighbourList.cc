@@ -233,6 +233,9 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     const MinimumImage img(box);
     slabI_.resize(nSlab);
     slabJ_.resize(nSlab);
+    // Expected pairs per slab, from the previous build, so the lists rarely grow while filling.
+    const std::size_t prevPairs = oldI_.size();
+    const std::size_t expectPerSlab = prevPairs > 0 ? prevPairs / nSlab + prevPairs / (8 * nSlab) + 16 : 0;
     const Vec3* x = p.x.data();
     const double* r = p.r.data();
 #pragma omp parallel for schedule(dynamic, 1)
@@ -241,6 +244,8 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
         auto& lj = slabJ_[s];
         li.clear();
         lj.clear();
+        li.reserve(expectPerSlab);
+        lj.reserve(expectPerSlab);
         for (int cb = 0; cb < nc[sb]; ++cb)
             for (int cc = 0; cc < nc[sc]; ++cc) {
                 const std::size_t c = cellIndex(s, cb, cc);

@@ -1,0 +1,541 @@
+// OedometerRelaxation: confined (oedometric) compression of a powder with holds at constant piston
+// position (stress relaxation, thesis chapter 4) or at constant stress (creep).
+// Documentation/driver-oedometer-relaxation.md describes geometry, protocol, time scaling and output.
+//
+// Run: fill (separate settling simulation, then levelled at the fill height: the FT4 "split"),
+// then the protocol steps one after the other. The relaxation physics runs on a lab clock:
+// lab time advances by dt * S per DEM step with S = time_scale during holds and
+// S = (DEM piston speed)/(lab piston speed) during ramps, so the recording's time axis is lab time.
+// Header-only so that the self-tests can run the driver in-process.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "Core/DPMBase.h"
+#include "Core/Error.h"
+#include "IO/AtomicFile.h"
+#include "IO/Json.h"
+#include "IO/NumberFormat.h"
+#include "Particles/Insertion.h"
+#include "Recording.h"
+
+namespace pdpm {
+
+/// Material parameters of one preset (chapter 5, Table 5.3, for "cocoa").
+struct OedometerMaterial {
+    std::string name;
+    double density = 1427, dMean = 2.5e-3, sizeRatio = 3;
+    ContactParameters pp, pw;  ///< particle-particle and particle-wall
+};
+
+inline OedometerMaterial oedometerMaterial(const std::string& name, double muWall) {
+    OedometerMaterial m;
+    m.name = name;
+    ContactParameters c;
+    c.k = 24067;  // Table 5.3: maximal elastic stiffness k (kg/s^2)
+    c.gamma = 0.0827;
+    c.kt = 0.286 * c.k;
+    c.gammaT = 0.286 * c.gamma;
+    c.kr = 0.286 * c.k;
+    c.gammaR = 0.286 * c.gamma;
+    c.muS = c.muD = 0.5;
+    if (name == "cocoa") {
+        c.k1 = c.k / 5;  // k/k1 = 5 (see data/thesis table_5_2_5_3 note)
+        c.kc = 0.873 * c.k;
+        c.phiF = 0.05;
+        c.muR = 0.5;
+    } else if (name == "frictional") {  // non-cohesive, elastic: Luding with k1 = k, kc = 0
+        c.k1 = c.k;
+        c.kc = 0;
+        c.phiF = 0;
+        c.muR = 0.1;
+    } else {
+        inputError("--material: unknown material '" + name + "' (cocoa, frictional)");
+    }
+    m.pp = c;
+    m.pw = c;
+    m.pw.muS = m.pw.muD = muWall;
+    m.pw.muR = 0;
+    m.pw.kc = 0;  // walls are not sticky
+    return m;
+}
+
+/// Settling simulation used to fill the mould (poured under gravity onto the bottom).
+class OedometerFill : public DPMBase {
+public:
+    OedometerFill() : DPMBase("OedometerFill") {
+        parameters().set("vtk", "0");
+        parameters().set("restart_output", "0");
+        parameters().set("ene", "0");
+        setQuiet(true);
+    }
+    double settleLimit = 1, ekRatio = 1e-3;
+    Vec3 g{0, 0, -9.81};
+    double potentialScale = 0;
+
+protected:
+    bool continueSolve() const override {
+        if (time() < minTime) return true;
+        // kinetic energy small compared with the potential energy of a particle diameter drop
+        return kineticEnergy() > ekRatio * potentialScale && time() < settleLimit;
+    }
+
+public:
+    double minTime = 0;
+};
+
+class OedometerRelaxation : public DPMBase {
+public:
+    OedometerRelaxation() : DPMBase("OedometerRelaxation", "Oedometric compression with relaxation (constant position) and creep (constant stress) holds") {
+        auto& p = parameters();
+        p.add("geometry", &geometry_, "periodic", "periodic: laterally periodic box; cylinder: mould of diameter D", {"periodic", "cylinder"});
+        p.add("device", &device_, "periodic", "device name written to the protocol file (ft4, lambdameter, periodic, ...)");
+        p.add("diameter", &diameter_, 0.05, "m", "mould diameter D (cylinder)", Range::positive());
+        p.add("width", &width_, 6, "d_mean", "lateral period of the periodic box in mean diameters", Range::atLeast(3));
+        p.add("fill_height", &fillHeight_, 6, "d_mean", "height of the levelled bed (periodic: in mean diameters)", Range::positive());
+        p.add("fill_height_m", &fillHeightM_, 0, "m", "height of the levelled bed in metres (0: use fill_height)", Range::nonNegative());
+        p.add("wall_friction", &muWall_, 0.2, "-", "wall friction mu_w (bottom, piston, mould)", Range::nonNegative());
+        p.add("material", &material_, "cocoa", "material preset", {"cocoa", "frictional"});
+        p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());
+        p.add("relax_C", &relaxC_, 0.0792, "-", "relaxation exponent C of Eq. 4.1 (0: off)", Range::nonNegative());
+        p.add("relax_t0", &relaxT0_, 0.2894, "s", "relaxation time t0 of Eq. 4.1 (lab seconds)", Range::positive());
+        p.add("steps", &stepsText_, "ramp:5e-5:10000,hold:300",
+              "protocol: ramp:V:S, hold:T, unload:V:S, creep:T[:S] (V lab m/s, S Pa, T lab s), comma separated");
+        p.add("protocol", &protocolPreset_, 0, "-", "Table 4.3 protocol 1-9 (0: use --steps or --protocol_file)", Range::closed(0, 9));
+        p.add("protocol_file", &protocolFile_, "", "JSON protocol file (recording format); overrides --steps");
+        p.add("max_stress", &maxStress_, 25e3, "Pa", "cap of the preset target stresses (FT4: 22 kPa)", Range::positive());
+        p.add("stress_scale", &stressScale_, 1, "-", "multiplies preset target stresses (small tests)", Range::positive());
+        p.add("time_scale", &timeScale_, 2e3, "lab s / DEM s", "time scaling of holds (lab seconds per DEM second)", Range::positive());
+        p.add("ramp_rate", &rampRate_, 0.5, "1/s", "DEM axial strain rate of ramps and unloads", Range::positive());
+        p.add("approach", &approach_, 0.2, "-", "ramps slow down over this fraction of the target stress", Range::openClosed(0, 1));
+        p.add("record_every", &recordEvery_, 100L, "steps", "DEM steps between recorded samples", Range::atLeast(1));
+        p.add("dt_fraction", &dtFraction_, 25, "-", "time step = t_c / dt_fraction", Range::atLeast(10));
+        p.add("gravity", &gravityOn_, true, "gravity along -z");
+        p.add("max_strain", &maxStrain_, 0.5, "-", "a ramp stops (with a warning) at this axial strain", Range::open(0, 0.9));
+        p.addPreset("ft4", "FT4 rheometer: cylinder D = H = 50 mm, protocol 1 capped at 22 kPa",
+                    {{"geometry", "cylinder"}, {"device", "ft4"}, {"diameter", "0.05"}, {"fill_height_m", "0.05"},
+                     {"protocol", "1"}, {"max_stress", "22000"}});
+        p.addPreset("lambdameter", "lambdameter: cylinder D = 149 mm, H = 60 mm, protocol 1 to 25 kPa",
+                    {{"geometry", "cylinder"}, {"device", "lambdameter"}, {"diameter", "0.149"}, {"fill_height_m", "0.06"},
+                     {"protocol", "1"}, {"max_stress", "25000"}});
+        p.set("vtk", "0");
+        p.set("restart_output", "0");
+        p.set("contact_law", "luding-relax");
+    }
+
+    // ---- results (for self-tests) -------------------------------------------------------------
+    struct HoldResult {
+        int step = 0;
+        bool creep = false;
+        double labStart = 0, labDuration = 0;
+        double stressStart = 0, stressEnd = 0, strainStart = 0, strainEnd = 0;
+        double maxEkEp = 0;
+        recording::RelaxationFit fit;
+        std::vector<double> t, s;  // lab time, axial stress samples of the hold
+    };
+    const std::vector<HoldResult>& holds() const { return holds_; }
+    const recording::Recording& recordingData() const { return rec_; }
+    double maxInertialNumber() const { return maxInertial_; }
+    std::size_t particleCount() const { return particles().size(); }
+
+protected:
+    double area() const {
+        return cylinder() ? std::numbers::pi * 0.25 * diameter_ * diameter_ : box().length().x * box().length().y;
+    }
+    bool cylinder() const { return geometry_ == "cylinder"; }
+
+    void setupInitialConditions() override {
+        if (protocolPreset_ > 0 && !protocolFile_.empty())
+            inputError("--protocol and --protocol_file are exclusive");
+        if (!protocolFile_.empty()) {
+            const recording::Protocol pf = recording::readProtocol(protocolFile_);
+            steps_ = pf.steps;
+        } else if (protocolPreset_ > 0) {
+            steps_ = recording::presetSteps(protocolPreset_, maxStress_, stressScale_);
+        } else {
+            steps_ = recording::parseSteps(stepsText_);
+        }
+        mat_ = oedometerMaterial(material_, muWall_);
+        mat_.dMean = dMean_;
+        for (ContactParameters* c : {&mat_.pp, &mat_.pw}) {
+            c->relaxC = relaxC_;
+            c->relaxT0 = relaxT0_;
+            c->relaxTimeScale = 0;  // no lab time passes while filling
+        }
+        const double rMean = 0.5 * dMean_;
+        // r_max / r_min = sizeRatio with mean radius rMean (uniform distribution)
+        const double rMin = 2 * rMean / (1 + mat_.sizeRatio), rMax = mat_.sizeRatio * rMin;
+        const double H = fillHeightM_ > 0 ? fillHeightM_ : fillHeight_ * dMean_;
+        double lx = width_ * dMean_;
+        double R = 0.5 * diameter_;
+        if (cylinder()) lx = diameter_;
+        // Particle count: a poured cohesive bed is loose; estimate fraction 0.4 plus 30 % to remove at levelling.
+        const double meanR3 = (std::pow(rMax, 4) - std::pow(rMin, 4)) / (4 * (rMax - rMin));
+        const double vp = 4.0 / 3.0 * std::numbers::pi * meanR3;
+        const double a = cylinder() ? std::numbers::pi * R * R : lx * lx;
+        const auto n = static_cast<std::size_t>(std::ceil(1.3 * 0.4 * a * H / vp));
+        auto radii = uniformRadii(n, rMin, rMax, random());
+
+        // ---- fill: grid in a tall column, settle under gravity ------------------------------------
+        // Settling without adhesion (a dense, reproducible start, like the FT4 conditioning), no relaxation.
+        OedometerFill fill;
+        setupSpecies(fill, 0, true);
+        const double s = 2.05 * rMax;
+        const int nxy = std::max(1, static_cast<int>(std::floor(lx / s)));
+        std::vector<Vec3> pts;
+        const double off = cylinder() ? -R : 0;
+        std::size_t placed = 0;
+        for (int layer = 0; placed < n; ++layer) {
+            for (int ix = 0; ix < nxy && placed < n; ++ix)
+                for (int iy = 0; iy < nxy && placed < n; ++iy) {
+                    const double sh = (layer % 2) * 0.5 * s;  // staggered layers: no vertical stacks
+                    const Vec3 x{off + (ix + 0.5) * s + sh, off + (iy + 0.5) * s + sh, (layer + 0.5) * s};
+                    if (!cylinder() && (x.x > lx - 0.5 * s + 1e-12 || x.y > lx - 0.5 * s + 1e-12) && nxy * s > lx - 0.5 * s) continue;
+                    if (cylinder() && std::hypot(x.x, x.y) > R - 1.02 * rMax) continue;
+                    pts.push_back(x);
+                    ++placed;
+                }
+            if (layer > 100000) inputError("mould too narrow for the particles");
+        }
+        const double colTop = pts.back().z + s;
+        setDomainFor(fill, lx, R, colTop + s);
+        fill.addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, 1));
+        if (cylinder()) fill.addWall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, R, 0.0, 1));
+        std::uniform_real_distribution<double> U(-1, 1);
+        for (std::size_t k = 0; k < n; ++k)
+            fill.addParticle(pts[k], radii[k], 0, Vec3{0.2 * U(random()), 0.2 * U(random()), -0.2});
+        fill.setGravity({0, 0, -9.81});
+        const double mMean = mat_.density * vp;
+        const double tc = fill.minCollisionTime();
+        fill.setTimeStep(tc / dtFraction_);
+        fill.setBackgroundDamping(mMean / (500 * tc), 0.0);  // terminal velocity ~ 0.5 m/s
+        fill.minTime = 1.2 * std::sqrt(2 * colTop / 9.81);
+        fill.settleLimit = fill.minTime + 0.5;
+        fill.potentialScale = static_cast<double>(n) * mMean * 9.81 * dMean_;
+        fill.setTimeMax(fill.settleLimit);
+        fill.setSaveEvery(fill.settleLimit);
+        fill.setOutput(commonOptions().output, runName() + "_fill");
+        fill.solve();
+        fillTime_ = fill.time();
+
+        // ---- level at H (the FT4 "split") and set up the main simulation ---------------------------
+        setupSpecies(*this, relaxC_);
+        double top = 0, solid = 0;
+        const ParticleData& F = fill.particles();
+        for (std::size_t i = 0; i < F.size(); ++i) {
+            if (F.x[i].z > H) continue;
+            addParticle(F.x[i], F.r[i], 0);
+            top = std::max(top, F.x[i].z + F.r[i]);
+            solid += 4.0 / 3.0 * std::numbers::pi * std::pow(F.r[i], 3);
+        }
+        if (particles().size() < 10) inputError("fill produced fewer than 10 particles below the fill height");
+        solid_ = solid;
+        setDomainFor(*this, lx, R, top * 1.5 + 4 * rMax);
+        addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, 1));
+        bottomWall_ = 0;
+        pistonZ0_ = top;
+        pistonZ_ = top;
+        auto piston = std::make_unique<PlaneWall>(Vec3{0, 0, top}, Vec3{0, 0, -1}, 1);
+        piston->label = "piston";
+        pistonWall_ = addWall(std::move(piston));
+        if (cylinder()) {
+            auto cyl = std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, R, 0.0, 1);
+            cyl->label = "mould";
+            mouldWall_ = static_cast<long>(addWall(std::move(cyl)));
+        }
+        installPistonMotion();
+        if (gravityOn_) setGravity({0, 0, -9.81});
+        setTimeStep(minCollisionTime() / dtFraction_);
+        setTimeMax(1e30);
+        setSaveEvery(1e30);
+        rMeanMass_ = mMean;
+    }
+
+    void actionsOnRestart() override { installPistonMotion(); }
+
+    void actionsBeforeTimeLoop() override {
+        startStep(0);
+        if (!quiet())
+            std::cout << "OedometerRelaxation: " << particles().size() << " particles, bed height " << fmt(pistonZ0_)
+                      << " m, dt " << fmt(timeStep()) << " s, fill took " << fmt(fillTime_) << " s DEM\n";
+    }
+
+    bool continueSolve() const override { return stepIndex_ < steps_.size(); }
+
+    void actionsBeforeTimeStep() override {
+        const double dt = timeStep();
+        const recording::Step& st = steps_[stepIndex_];
+        double v = 0;  // piston velocity along z (negative: down)
+        const double h = pistonZ_;
+        const double vRamp = rampRate_ * pistonZ0_;
+        switch (st.kind) {
+            // Ramps slow down over the last approachFraction of the stress change (down to 1 % of
+            // the speed) so that the piston stops quasi-statically; the lab clock follows the speed.
+            case recording::Step::Kind::Ramp: {
+                const double gap = (st.targetStress - axialStress()) / std::max(st.targetStress, 1.0);
+                v = -vRamp * std::clamp(gap / approach_, 0.01, 1.0);
+                setLabScale(std::abs(v) / st.velocity);
+                break;
+            }
+            case recording::Step::Kind::Unload: {
+                const double gap = (axialStress() - st.targetStress) / std::max(rampStartStress_, 1.0);
+                v = vRamp * std::clamp(gap / approach_, 0.01, 1.0);
+                setLabScale(std::abs(v) / st.velocity);
+                break;
+            }
+            case recording::Step::Kind::HoldPosition: v = 0; break;
+            case recording::Step::Kind::HoldStress: {
+                const double err = (creepStress_ - axialStress()) / creepStress_;
+                v = -vRamp * std::clamp(5 * err, -1.0, 1.0);
+                break;
+            }
+        }
+        pistonV_ = v;
+        pistonZ_ = h + v * dt;
+        labTime_ += dt * labScale_;
+        if ((step() + 1) % recordEvery_ == 0) requestContacts();
+    }
+
+    void actionsAfterTimeStep() override {
+        const recording::Step& st = steps_[stepIndex_];
+        const double sAx = axialStress();
+        const double strain = (pistonZ0_ - pistonZ_) / pistonZ0_;
+        bool done = false;
+        switch (st.kind) {
+            case recording::Step::Kind::Ramp:
+                done = sAx >= st.targetStress;
+                if (strain > maxStrain_) {
+                    std::cerr << "OedometerRelaxation: warning: ramp " << stepIndex_ << " stopped at the maximal strain\n";
+                    done = true;
+                }
+                break;
+            case recording::Step::Kind::Unload: done = sAx <= st.targetStress || pistonZ_ > pistonZ0_; break;
+            case recording::Step::Kind::HoldPosition:
+            case recording::Step::Kind::HoldStress: done = labTime_ - stepLabStart_ >= st.duration - 1e-9 * st.duration; break;
+        }
+        const bool recordNow = (step() % recordEvery_ == 0) || done;
+        if (recordNow) record(done);
+        if (done) {
+            finishStep();
+            if (stepIndex_ + 1 < steps_.size()) startStep(stepIndex_ + 1);
+            else stepIndex_ = steps_.size();
+        }
+    }
+
+    void actionsAfterSolve() override {
+        writeOutputs();
+        if (quiet()) return;
+        std::cout << "OedometerRelaxation: " << rec_.rows.size() << " samples, lab time " << fmt(labTime_)
+                  << " s, max inertial number during ramps " << fmt(maxInertial_) << "\n";
+        for (const auto& hr : holds_)
+            std::printf("  step %d %s: stress %.6g -> %.6g Pa (drop %.4g %%), max Ek/Ep %.3g, fit C = %.4g, t0 = %.4g s (rms %.2g)\n",
+                        hr.step, hr.creep ? "creep" : "hold", hr.stressStart, hr.stressEnd,
+                        100 * (1 - hr.stressEnd / hr.stressStart), hr.maxEkEp, hr.fit.C, hr.fit.t0, hr.fit.rms);
+    }
+
+    void saveDriverState(std::vector<std::pair<std::string, std::string>>& kv) const override {
+        kv.emplace_back("pistonZ", fmt(pistonZ_));
+        kv.emplace_back("pistonZ0", fmt(pistonZ0_));
+        kv.emplace_back("labTime", fmt(labTime_));
+        kv.emplace_back("stepIndex", std::to_string(stepIndex_));
+    }
+    void loadDriverState(const std::vector<std::pair<std::string, std::string>>& kv) override {
+        for (const auto& [k, v] : kv) {
+            if (k == "pistonZ") parseDouble(v, pistonZ_);
+            if (k == "pistonZ0") parseDouble(v, pistonZ0_);
+            if (k == "labTime") parseDouble(v, labTime_);
+        }
+    }
+
+private:
+    void setupSpecies(DPMBase& d, double relaxC, bool settling = false) {
+        ContactParameters pp = mat_.pp, pw = mat_.pw;
+        pp.relaxC = pw.relaxC = relaxC;
+        if (settling) pp.kc = 0;
+        d.setContactLaw(parameters().get("contact_law"));
+        const int a = d.addSpecies(mat_.name, mat_.density, pp);
+        const int w = d.addSpecies("wall", mat_.density, pp);
+        d.setPairParameters(a, w, pw);
+        (void)w;
+    }
+    void setDomainFor(DPMBase& d, double lx, double R, double zTop) {
+        if (cylinder()) d.setDomain({-R, -R, 0}, {R, R, zTop}, false, false, false);
+        else d.setDomain({0, 0, 0}, {lx, lx, zTop}, true, true, false);
+    }
+    void installPistonMotion() {
+        const double z0 = pistonZ0Geometry();
+        wall(pistonWall_).setMotion(WallMotion::custom([this, z0](double) { return Vec3{0, 0, pistonZ_ - z0}; },
+                                                       [this](double) { return Vec3{0, 0, pistonV_}; }));
+    }
+    double pistonZ0Geometry() const { return pistonZ0_; }
+    double axialStress() const { return walls()[pistonWall_]->force.z / area(); }
+    double bottomStress() const { return -walls()[bottomWall_]->force.z / area(); }
+    void setLabScale(double s) {
+        labScale_ = s;
+        for (int a = 0; a < species().size(); ++a)
+            for (int b = 0; b < species().size(); ++b) species().pairMutable(a, b).relaxTimeScale = s;
+    }
+    void startStep(std::size_t k) {
+        stepIndex_ = k;
+        const recording::Step& st = steps_[k];
+        stepLabStart_ = labTime_;
+        rampStartStress_ = axialStress();
+        const double vRamp = rampRate_ * pistonZ0_;
+        switch (st.kind) {
+            case recording::Step::Kind::Ramp:
+            case recording::Step::Kind::Unload: setLabScale(vRamp / st.velocity); break;
+            case recording::Step::Kind::HoldPosition: setLabScale(timeScale_); break;
+            case recording::Step::Kind::HoldStress:
+                setLabScale(timeScale_);
+                creepStress_ = st.stress >= 0 ? st.stress : std::max(axialStress(), 1.0);
+                break;
+        }
+        if (st.kind == recording::Step::Kind::HoldPosition || st.kind == recording::Step::Kind::HoldStress) {
+            HoldResult hr;
+            hr.step = static_cast<int>(k);
+            hr.creep = st.kind == recording::Step::Kind::HoldStress;
+            hr.labStart = labTime_;
+            hr.stressStart = axialStress();
+            hr.strainStart = (pistonZ0_ - pistonZ_) / pistonZ0_;
+            hr.t.push_back(labTime_);
+            hr.s.push_back(hr.stressStart);
+            holds_.push_back(hr);
+            inHold_ = true;
+        } else {
+            inHold_ = false;
+        }
+    }
+    void finishStep() {
+        if (!inHold_) return;
+        HoldResult& hr = holds_.back();
+        hr.labDuration = labTime_ - hr.labStart;
+        hr.stressEnd = axialStress();
+        hr.strainEnd = (pistonZ0_ - pistonZ_) / pistonZ0_;
+        if (!hr.creep) hr.fit = recording::fitRelaxation(hr.t, hr.s);
+        inHold_ = false;
+    }
+    void record(bool force) {
+        (void)force;
+        const double A = area();
+        const double h = pistonZ_;
+        const double sAx = axialStress();
+        double lateral = 0;
+        if (cylinder()) {
+            // radial force on the mould over its wetted area pi D h
+            double fr = 0;
+            for (const auto& c : contacts())
+                if (c.j == -1 - mouldWall_) fr += std::abs(c.fn);
+            lateral = fr / (std::numbers::pi * diameter_ * h);
+        } else {
+            double sxx = 0, syy = 0;
+            for (const auto& c : contacts()) {
+                const Vec3 f = c.fn * c.n + c.ft;
+                sxx += f.x * c.branch.x;
+                syy += f.y * c.branch.y;
+            }
+            lateral = 0.5 * (sxx + syy) / (A * h);
+        }
+        const double ek = kineticEnergy(), ep = elasticEnergy();
+        const double ratio = ep > 0 ? ek / ep : 0;
+        double inertial = 0;
+        if (pistonV_ != 0 && sAx > 0) {
+            inertial = std::abs(pistonV_) / h * dMean_ * std::sqrt(mat_.density / sAx);
+            if (!inHold_ && (steps_[stepIndex_].kind == recording::Step::Kind::Ramp)) maxInertial_ = std::max(maxInertial_, inertial);
+        }
+        if (inHold_) {
+            HoldResult& hr = holds_.back();
+            hr.maxEkEp = std::max(hr.maxEkEp, ratio);
+            if (labTime_ > hr.t.back()) {
+                hr.t.push_back(labTime_);
+                hr.s.push_back(sAx);
+            }
+        }
+        if (!rec_.rows.empty() && !(labTime_ > rec_.rows.back()[0])) return;
+        if (rec_.columns.empty())
+            rec_.columns = {"time_s", "step", "piston_position_m", "axial_strain", "axial_stress_Pa", "bottom_stress_Pa",
+                            "lateral_stress_Pa", "volume_fraction", "Ek_over_Ep", "inertial_number", "dem_time_s"};
+        rec_.rows.push_back({labTime_, static_cast<double>(stepIndex_), h, (pistonZ0_ - h) / pistonZ0_, sAx, bottomStress(),
+                             lateral, solid_ / (A * h), ratio, inertial, time()});
+    }
+    void writeOutputs() {
+        ensureDirectory(commonOptions().output);
+        rec_.comments = {"PowderDPM OedometerRelaxation recording (Documentation/recording-format.md)",
+                         "source: simulation; time_s is lab time; dem_time_s is simulation time",
+                         "particles: " + std::to_string(particles().size()) + "; relax_C " + fmt(relaxC_) + "; relax_t0 " +
+                             fmt(relaxT0_) + " s; time_scale " + fmt(timeScale_) + " lab s per DEM s"};
+        recording::writeRecording(outputPath(".recording.csv"), rec_);
+        recording::Protocol p;
+        p.source = "simulation";
+        p.device = device_;
+        p.diameter = cylinder() ? diameter_ : 0;
+        p.height = pistonZ0_;
+        p.wallFriction = muWall_;
+        p.material = Json::object({{"name", mat_.name},
+                                   {"density_kg_m3", mat_.density},
+                                   {"d_mean_m", dMean_},
+                                   {"r_max_over_r_min", mat_.sizeRatio},
+                                   {"contact_law", parameters().get("contact_law")},
+                                   {"k_N_m", mat_.pp.k},
+                                   {"k1_N_m", mat_.pp.k1},
+                                   {"kc_N_m", mat_.pp.kc},
+                                   {"phi_f", mat_.pp.phiF},
+                                   {"mu", mat_.pp.muS},
+                                   {"mu_r", mat_.pp.muR},
+                                   {"relax_C", relaxC_},
+                                   {"relax_t0_s", relaxT0_}});
+        p.steps = steps_;
+        Json extra = Json::object();
+        extra.set("particles", static_cast<double>(particles().size()));
+        extra.set("geometry", geometry_);
+        extra.set("lateral_period_m", cylinder() ? 0.0 : box().length().x);
+        extra.set("time_scale_hold_lab_s_per_dem_s", timeScale_);
+        extra.set("ramp_dem_strain_rate_1_s", rampRate_);
+        extra.set("dt_s", timeStep());
+        extra.set("max_inertial_number_ramps", maxInertial_);
+        Json hj = Json::array();
+        for (const auto& hr : holds_) {
+            hj.push(Json::object({{"step", hr.step},
+                                  {"type", hr.creep ? "hold_stress" : "hold_position"},
+                                  {"lab_start_s", hr.labStart},
+                                  {"stress_start_Pa", hr.stressStart},
+                                  {"stress_end_Pa", hr.stressEnd},
+                                  {"strain_start", hr.strainStart},
+                                  {"strain_end", hr.strainEnd},
+                                  {"max_Ek_over_Ep", hr.maxEkEp},
+                                  {"fit_C", hr.fit.C},
+                                  {"fit_t0_s", hr.fit.t0},
+                                  {"fit_rms", hr.fit.rms}}));
+        }
+        extra.set("holds", hj);
+        p.extra = extra;
+        recording::writeProtocol(outputPath(".protocol.json"), p);
+    }
+
+    // parameters
+    std::string geometry_, device_, material_, stepsText_, protocolFile_;
+    double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0, relaxC_ = 0, relaxT0_ = 0;
+    double approach_ = 0.2, maxStress_ = 0, stressScale_ = 1, timeScale_ = 0, rampRate_ = 0, dtFraction_ = 25, maxStrain_ = 0.5;
+    int protocolPreset_ = 0;
+    long recordEvery_ = 100;
+    bool gravityOn_ = true;
+    // state
+    OedometerMaterial mat_;
+    std::vector<recording::Step> steps_;
+    std::size_t stepIndex_ = 0, pistonWall_ = 0, bottomWall_ = 0;
+    long mouldWall_ = -1;
+    double pistonZ_ = 0, pistonZ0_ = 0, pistonV_ = 0, labTime_ = 0, labScale_ = 0, stepLabStart_ = 0, creepStress_ = 1;
+    double rampStartStress_ = 0;
+    double solid_ = 0, fillTime_ = 0, maxInertial_ = 0, rMeanMass_ = 0;
+    bool inHold_ = false;
+    std::vector<HoldResult> holds_;
+    recording::Recording rec_;
+};
+
+} // namespace pdpm

@@ -1,0 +1,62 @@
+// OedometerRelaxation, small laterally periodic bed (frictional, non-cohesive material), ramp to
+// 5 kPa then a hold of 300 lab seconds at constant piston position, twice:
+//  1. relaxation off (relax_C 0): the axial stress during the hold stays within 1 % of its start
+//     value, and the run is quasi-static (Ek/Ep <= 1e-4 at the end of the hold);
+//  2. relaxation on (C = 0.0792, t0 = 0.2894 s, Table 4.4 R1 lambdameter): the stress decays, the
+//     fitted macroscopic C of Eq. 4.3 is within 30 % of the contact C, and the decay is at least
+//     half of the contact-level prediction 1 - (1 + 300/t0)^(-C).
+// Also: the written recording and protocol files pass the format validator.
+#include <cmath>
+
+#include "OedometerSelfTestCommon.h"
+
+using namespace pdpm;
+using oedometer_selftest::check;
+
+int main() {
+    bool ok = true;
+    const std::vector<std::string> common = {"--material", "frictional", "--width", "4", "--fill_height", "5",
+                                             "--steps", "ramp:5e-5:5000,hold:300", "--quiet", "--threads", "1"};
+    double C = 0.0792, t0 = 0.2894;
+    {
+        OedometerRelaxation d;
+        auto args = common;
+        args.insert(args.end(), {"--relax_C", "0", "--name", "off"});
+        ok &= check(oedometer_selftest::runDriver(d, args) == 0, "run without relaxation");
+        ok &= check(d.holds().size() == 1, "one hold");
+        if (d.holds().size() == 1) {
+            const auto& h = d.holds()[0];
+            double worst = 0;
+            for (double s : h.s) worst = std::max(worst, std::abs(s / h.stressStart - 1));
+            std::printf("     relaxation off: stress %.6g -> %.6g Pa, largest deviation %.3g %%, max Ek/Ep %.3g\n",
+                        h.stressStart, h.stressEnd, 100 * worst, h.maxEkEp);
+            ok &= check(h.stressStart >= 5000, "hold starts at the target stress");
+            ok &= check(worst < 0.01, "stress constant within 1 % during the hold without relaxation");
+            const auto& rec = d.recordingData();
+            const int c = rec.column("Ek_over_Ep");
+            ok &= check(c >= 0 && rec.rows.back()[static_cast<std::size_t>(c)] <= 1e-4, "quasi-static at the end (Ek/Ep <= 1e-4)");
+        }
+        recording::Recording back;
+        ok &= check(recording::checkRecording(readWholeFile("off.recording.csv"), &back).empty(), "recording file valid");
+        ok &= check(recording::readProtocol("off.protocol.json").steps.size() == 2, "protocol file valid, 2 steps");
+    }
+    {
+        OedometerRelaxation d;
+        auto args = common;
+        args.insert(args.end(), {"--relax_C", "0.0792", "--relax_t0", "0.2894", "--name", "on"});
+        ok &= check(oedometer_selftest::runDriver(d, args) == 0, "run with relaxation");
+        if (d.holds().size() == 1) {
+            const auto& h = d.holds()[0];
+            const double drop = 1 - h.stressEnd / h.stressStart;
+            const double predicted = 1 - std::pow(1 + h.labDuration / t0, -C);
+            std::printf("     relaxation on: drop %.4g %% (contact level %.4g %%), fit C = %.4g, t0 = %.4g s, rms %.3g\n",
+                        100 * drop, 100 * predicted, h.fit.C, h.fit.t0, h.fit.rms);
+            ok &= check(drop > 0.5 * predicted, "stress decays by at least half the contact-level prediction");
+            ok &= check(h.fit.ok && std::abs(h.fit.C - C) < 0.3 * C, "fitted macroscopic C within 30 % of the contact C");
+            ok &= check(h.fit.rms < 0.02, "Eq. 4.3 describes the hold curve (rms < 0.02)");
+        } else {
+            ok &= check(false, "one hold");
+        }
+    }
+    return ok ? 0 : 1;
+}

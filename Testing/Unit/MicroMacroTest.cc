@@ -1,0 +1,235 @@
+// Unit tests of Tools/MicroMacro on synthetic contact sets whose stress, fabric and coordination
+// are known in closed form.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <random>
+
+#include "IO/Csv.h"
+#include "MicroMacro.h"
+
+using namespace pdpm;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+// A central particle 0 (radius R at the origin) touched by one particle per direction in `dirs`
+// (radius R, centre at distance d = 2R - overlap), with normal force fn[k].
+struct Star {
+    ParticleData P;
+    std::vector<ContactRecord> C;
+    double R = 1e-3, d = 1.98e-3;
+    Star(const std::vector<Vec3>& dirs, const std::vector<double>& fn) {
+        P.add({0, 0, 0}, R, 2000, 0);
+        for (std::size_t k = 0; k < dirs.size(); ++k) {
+            const Vec3 nrm = dirs[k] / norm(dirs[k]);
+            const std::size_t i = P.add(d * nrm, R, 2000, 0);
+            ContactRecord c;
+            c.i = static_cast<int>(i);
+            c.j = 0;
+            c.n = nrm;  // from j (centre) to i
+            c.fn = fn[k];
+            c.branch = d * nrm;
+            c.overlap = 2 * R - d;
+            C.push_back(c);
+        }
+    }
+};
+std::vector<Vec3> axes6() { return {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}; }
+} // namespace
+
+// Six equal contacts along +-x, +-y, +-z: isotropic stress and fabric, exact coordination numbers.
+TEST(MicroMacro, IsotropicStarIsExact) {
+    const double f = 3.0;
+    Star s(axes6(), std::vector<double>(6, f));
+    MacroInput in;
+    in.volume = 1e-6;
+    in.stiffness = 1e5;
+    const MacroResult r = computeMacro(s.P, s.C, in);
+    const double V = in.volume;
+    // each pair of opposite contacts adds 2 f d to the diagonal entry
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.stress(a, a), 2 * f * s.d / V, 1e-12 * f * s.d / V);
+    EXPECT_NEAR(r.stress(0, 1), 0, 1e-15);
+    EXPECT_NEAR(r.p, 2 * f * s.d / V, 1e-9);
+    EXPECT_NEAR(r.sigmaDev, 0, 1e-9 * r.p);
+    EXPECT_NEAR(r.sDev, 0, 1e-12);
+    EXPECT_NEAR(r.pNd, 2 * s.R * 3 * r.p / (3 * in.stiffness), 1e-15);
+    // fabric Eq. 2.9: each contact carries V_0 + V_k = 2 (4/3 pi R^3)
+    const double vp = 2 * 4.0 / 3.0 * kPi * std::pow(s.R, 3);
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(r.fabric(a, a), 2 * vp / V, 1e-12);
+        EXPECT_NEAR(r.fabricNormalised(a, a), 1.0 / 3.0, 1e-15);
+    }
+    EXPECT_NEAR(r.Fv, 2 * vp / V, 1e-12);
+    EXPECT_NEAR(r.Fdev, 0, 1e-12);
+    EXPECT_NEAR(r.FnDev, 0, 1e-12);
+    // coordination: z = (6, 1, 1, 1, 1, 1, 1): M = 12, only particle 0 has >= 4 contacts
+    EXPECT_NEAR(r.Cr, 12.0 / 7.0, 1e-15);
+    EXPECT_NEAR(r.Cm, 6.0 / 7.0, 1e-15);
+    EXPECT_NEAR(r.Cstar, 6.0, 1e-15);
+    EXPECT_NEAR(r.phiR, 6.0 / 7.0, 1e-15);
+    EXPECT_NEAR(r.volumeFraction, 7 * 4.0 / 3.0 * kPi * std::pow(s.R, 3) / V, 1e-15);
+    EXPECT_EQ(r.contacts, 6);
+}
+
+// Forces twice as large along z as along x, y on an isotropic contact network: stress anisotropy with
+// isotropic fabric. sigma_zz = 2 sigma_xx -> s_dev = sigma_dev/p = 3/4, shape factor -1/2, major
+// eigenvector along z; the z contacts are the strong ones.
+TEST(MicroMacro, AnisotropicForceNetwork) {
+    const double f = 1.0;
+    Star s(axes6(), {f, f, f, f, 2 * f, 2 * f});
+    MacroInput in;
+    in.volume = 1e-6;
+    const MacroResult r = computeMacro(s.P, s.C, in);
+    const double unit = 2 * f * s.d / in.volume;
+    EXPECT_NEAR(r.stress(0, 0) / unit, 1.0, 1e-12);
+    EXPECT_NEAR(r.stress(2, 2) / unit, 2.0, 1e-12);
+    EXPECT_NEAR(r.p / unit, 4.0 / 3.0, 1e-12);
+    EXPECT_NEAR(r.sigmaDev / unit, 1.0, 1e-12);
+    EXPECT_NEAR(r.sDev, 0.75, 1e-12);
+    EXPECT_NEAR(r.sDevStar, 0.75, 1e-12);
+    EXPECT_NEAR(r.stressAll.lambda[0] / unit, 2.0 / 3.0, 1e-12);
+    EXPECT_NEAR(r.stressAll.shape, -0.5, 1e-12);
+    EXPECT_NEAR(r.stressAll.theta[0], 0.0, 1e-6);
+    EXPECT_NEAR(r.stressAll.theta[1], 90.0, 1e-6);
+    EXPECT_NEAR(r.Fdev, 0, 1e-12);
+    // strong contacts: fn = 2f > <fn> = 4f/3 -> the two z contacts
+    EXPECT_NEAR(r.weakFraction, 4.0 / 6.0, 1e-15);
+    EXPECT_NEAR(r.stressStrong.theta[0], 0.0, 1e-6);
+    EXPECT_NEAR(r.stressWeak.theta[0], 90.0, 1e-6);  // weak network: x and y only, minor axis z
+    EXPECT_NEAR(r.stressWeak.shape, 1.0, 1e-12);     // two equal major eigenvalues in the xy plane
+    EXPECT_NEAR(r.fabricStrong.theta[0], 0.0, 1e-6);
+}
+
+// Fabric anisotropy: two contacts along +z and -z each counted twice, one along each of +-x, +-y:
+// F (Eq. 3.16) = diag(1/4, 1/4, 1/2), deviator (-1/12, -1/12, 1/6): F_dev = F*_dev = 1/4.
+TEST(MicroMacro, AnisotropicFabric) {
+    std::vector<Vec3> dirs = axes6();
+    dirs.push_back({0, 0, 1});
+    dirs.push_back({0, 0, -1});
+    Star s(dirs, std::vector<double>(8, 1.0));
+    MacroInput in;
+    in.volume = 1e-6;
+    const MacroResult r = computeMacro(s.P, s.C, in);
+    EXPECT_NEAR(r.fabricNormalised(2, 2), 0.5, 1e-15);
+    EXPECT_NEAR(r.fabricNormalised(0, 0), 0.25, 1e-15);
+    EXPECT_NEAR(r.FnDev, 0.25, 1e-12);
+    EXPECT_NEAR(r.FnDevStar, 0.25, 1e-12);
+    // Eq. 2.9 carries the factor (V_i + V_j)/V per contact: F_dev scales with it
+    const double vp = 2 * 4.0 / 3.0 * kPi * std::pow(s.R, 3);
+    EXPECT_NEAR(r.Fdev / (8 * vp / in.volume), 0.25, 1e-12);
+    EXPECT_NEAR(r.FdevStar, r.Fdev, 1e-12);
+    EXPECT_NEAR(r.fabricAll.shape, -0.5, 1e-12);
+}
+
+// Tilted uniaxial network: the major eigenvector makes the tilt angle with z (Eq. 3.20), for angles
+// on both sides (projection into [0, 90]).
+TEST(MicroMacro, EigenvectorAngleToZ) {
+    for (double deg : {0.0, 20.0, 45.0, 70.0, 110.0}) {
+        const double a = deg * kPi / 180;
+        const Vec3 u{std::sin(a), 0, std::cos(a)};
+        Star s({u, -u, u, -u, {0, 1, 0}, {0, -1, 0}}, std::vector<double>(6, 1.0));
+        MacroInput in;
+        in.volume = 1e-6;
+        const MacroResult r = computeMacro(s.P, s.C, in);
+        const double expected = deg <= 90 ? deg : 180 - deg;
+        EXPECT_NEAR(r.stressAll.theta[0], expected, 1e-6) << deg;
+        EXPECT_NEAR(r.fabricAll.theta[0], expected, 1e-6) << deg;
+    }
+}
+
+// Kinetic stress m v (x) v / V and E_k/E_p.
+TEST(MicroMacro, KineticStressAndEnergyRatio) {
+    ParticleData P;
+    P.add({0, 0, 0}, 1e-3, 2000, 0, {0.5, 0, 0});
+    P.add({0.5, 0, 0}, 1e-3, 2000, 0, {0, 0, -0.25});
+    MacroInput in;
+    in.volume = 2e-6;
+    in.kineticEnergy = 3.0;
+    in.elasticEnergy = 1.5;
+    const MacroResult r = computeMacro(P, {}, in);
+    EXPECT_NEAR(r.stress(0, 0), P.m[0] * 0.25 / in.volume, 1e-15);
+    EXPECT_NEAR(r.stress(2, 2), P.m[1] * 0.0625 / in.volume, 1e-15);
+    EXPECT_EQ(r.stress(0, 2), 0.0);
+    EXPECT_NEAR(r.ekOverEp, 2.0, 1e-15);
+    EXPECT_EQ(r.Cstar, 0.0);
+    EXPECT_EQ(r.phiR, 1.0);
+}
+
+// Friction classes of Sec. 3.4.4 and mobilisation |f_t|/(mu f_n).
+TEST(MicroMacro, FrictionMobilisationClasses) {
+    // normal forces 1,1,1,5 -> mean 2: three weak, one strong
+    Star s(std::vector<Vec3>{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}}, {1, 1, 1, 5});
+    const double mu = 0.5;
+    s.C[0].sliding = true;
+    s.C[0].ft = {0, 0.5, 0};   // fully mobilised: 0.5/(0.5*1) = 1
+    s.C[1].ft = {0.25, 0, 0};  // 0.5
+    s.C[2].ft = {0, 0, 0};     // 0
+    s.C[3].sliding = true;
+    s.C[3].ft = {0, 2.5, 0};   // 1
+    MacroInput in;
+    in.volume = 1e-6;
+    in.mu = mu;
+    const MacroResult r = computeMacro(s.P, s.C, in);
+    EXPECT_NEAR(r.weakFraction, 0.75, 1e-15);
+    EXPECT_NEAR(r.wsl, 0.25, 1e-15);
+    EXPECT_NEAR(r.wst, 0.5, 1e-15);
+    EXPECT_NEAR(r.ssl, 0.25, 1e-15);
+    EXPECT_NEAR(r.sst, 0.0, 1e-15);
+    EXPECT_NEAR(r.mobilisation, (1 + 0.5 + 0 + 1) / 4.0, 1e-15);
+    // frictionless input: classes are zero
+    in.mu = 0;
+    const MacroResult r0 = computeMacro(s.P, s.C, in);
+    EXPECT_EQ(r0.wsl + r0.wst + r0.ssl + r0.sst + r0.mobilisation, 0.0);
+}
+
+// Many random contact directions give an isotropic fabric (F_dev -> 0 like 1/sqrt(N)); with unit
+// forces the stress is proportional to the fabric.
+TEST(MicroMacro, RandomDirectionsAreIsotropic) {
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> g;
+    std::vector<Vec3> dirs;
+    for (int k = 0; k < 20000; ++k) dirs.push_back({g(rng), g(rng), g(rng)});
+    Star s(dirs, std::vector<double>(dirs.size(), 1.0));
+    MacroInput in;
+    in.volume = 1.0;
+    const MacroResult r = computeMacro(s.P, s.C, in);
+    EXPECT_LT(r.FnDev, 0.02);
+    // unit forces along the normals: stress is proportional to the fabric, p to its trace (1/3 of it)
+    EXPECT_NEAR(r.sDev, 3 * r.FnDev, 1e-9);
+    EXPECT_NEAR(r.fabricNormalised.trace(), 1.0, 1e-12);
+}
+
+TEST(MicroMacro, CsvColumnsAndRoundTrip) {
+    const auto& cols = macroColumns();
+    const std::vector<std::string> required = {
+        "time", "tau", "volume_fraction", "eps_v", "eps_dev", "sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy",
+        "sigma_xz", "sigma_yz", "p", "p_nd", "sigma_dev", "s_dev", "F_xx", "F_yy", "F_zz", "F_v", "F_dev",
+        "F_dev_star", "C_r", "C_m", "C_star", "phi_r", "Ek_over_Ep"};
+    ASSERT_GE(cols.size(), required.size());
+    for (std::size_t k = 0; k < required.size(); ++k) EXPECT_EQ(cols[k], required[k]);
+    Star s(axes6(), std::vector<double>(6, 1.0));
+    MacroInput in;
+    in.volume = 1e-6;
+    in.time = 0.5;
+    const auto row = macroRow(computeMacro(s.P, s.C, in), in);
+    EXPECT_EQ(row.size(), cols.size());
+    const std::string path = "micromacro_test.macro.csv";
+    std::filesystem::remove(path);
+    MacroCsv csv(path);
+    csv.append(row);
+    auto row2 = row;
+    row2[0] = 1.0;
+    csv.append(row2);
+    const CsvTable t = readCsv(path);
+    ASSERT_EQ(t.rows.size(), 2u);
+    EXPECT_EQ(t.rows[0], row);
+    MacroCsv again(path);
+    again.reload();
+    EXPECT_EQ(again.rows(), 2u);
+    again.truncateAfter(0.75);
+    EXPECT_EQ(again.rows(), 1u);
+    std::filesystem::remove(path);
+}

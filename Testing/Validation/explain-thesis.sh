@@ -1,0 +1,26 @@
+#!/bin/bash
+# Real recording (a): thesis chapter 4 cocoa and limestone relaxation (lambdameter, protocol 1),
+# reconstructed from Tables 4.4/4.5. Checks: contact_relaxation named, holds localised, C within
+# 25 % of the thesis' mean C of the five holds.
+source "$(dirname "$0")/explain-common.sh"
+[ -f "$SHARED/data/thesis/table_4_5_relaxation_materials.csv" ] || { echo "SKIP: thesis tables absent"; exit 77; }
+fail=0
+for m in cocoa limestone; do
+  "$BIN/pdpm-explain-data" thesis --material $m --data "$SHARED/data" --output "$OUT/$m-input" >/dev/null
+  "$BIN/pdpm-explain" --recording "$OUT/$m-input/recording.csv" --protocol "$OUT/$m-input/protocol.json" --output "$OUT/$m" >/dev/null
+  python3 - "$OUT/$m/report.json" "$OUT/$m-input/thesis-values.json" "$m" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2])); m = sys.argv[3]
+names = [x['name'] for x in r['mechanisms']]
+ok = 'contact_relaxation' in names
+C = None
+for x in r['mechanisms']:
+    if x['name'] == 'contact_relaxation': C = x['parameters']['C']['value']; ci = x['parameters']['C']['ci95']
+holds = sum(w['share_of_excess_residual'] for w in r['windows'] if w['mismatch'] and w['phase'] == 'hold')
+print(f"{m}: verdict {r['verdict']}, mechanisms {names}, C = {C} (95 % {ci if C else '-'}) vs thesis mean {t['C_mean']:.4f}, "
+      f"share of excess in hold windows {holds:.2f}")
+if C is not None: ok = ok and abs(C - t['C_mean']) <= 0.25 * t['C_mean']
+sys.exit(0 if ok else 1)
+PY
+done
+exit $fail

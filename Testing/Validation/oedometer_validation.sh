@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Validation of OedometerRelaxation against thesis chapter 4 (label: validation; NOT part of the fast
+# suite; hours of CPU). Usage: oedometer_validation.sh BUILD_DIR OUT_DIR [THREADS]
+#  1. FT4 preset, cocoa, protocol 1, relaxation on: fitted macroscopic C, t0 per hold (from
+#     RUN.protocol.json "extra.holds") next to Table 4.4 (FT4 and lambdameter columns).
+#  2. Same with --relax_C 0: hold stress constant within 1 %.
+#  3. Protocols 1-4 (hold 5/10/20/30 min) on the periodic bed: relative drop after 300 s of each hold
+#     (Fig. 4.8 history effect: later steps drop less after longer holds; the first step is unchanged).
+# Thesis tables are read by path (skipped if absent), never copied into the repository.
+set -euo pipefail
+BUILD=${1:?build dir}; OUT=${2:?output dir}; THREADS=${3:-2}
+EXE="$BUILD/bin/OedometerRelaxation"
+DATA=${PDPM_THESIS_DATA:-/work/shared/data/thesis}
+mkdir -p "$OUT"
+holds() {  # print step, stress_start, stress_end, drop, C, t0 of every hold of a protocol file
+  awk 'BEGIN{RS="{"} /"type": "hold_position"/ {
+         match($0,/"step": [0-9]+/); s=substr($0,RSTART+8,RLENGTH-8);
+         match($0,/"stress_start_Pa": [-0-9.e]+/); a=substr($0,RSTART+19,RLENGTH-19);
+         match($0,/"stress_end_Pa": [-0-9.e]+/); b=substr($0,RSTART+17,RLENGTH-17);
+         match($0,/"fit_C": [-0-9.e]+/); c=substr($0,RSTART+9,RLENGTH-9);
+         match($0,/"fit_t0_s": [-0-9.e]+/); t=substr($0,RSTART+12,RLENGTH-12);
+         printf "%s %.4g %.4g %.4f %.4g %.4g\n", s, a, b, 1-b/a, c, t }' "$1"
+}
+echo "== 1. FT4 preset, protocol 1, relaxation on"
+time "$EXE" --preset ft4 --threads "$THREADS" --output "$OUT" --name ft4_p1 --quiet
+echo "step stress_start_Pa stress_end_Pa drop C_fit t0_fit_s"; holds "$OUT/ft4_p1.protocol.json"
+[ -f "$DATA/table_4_4_relaxation_devices.csv" ] && { echo "Table 4.4 (thesis):"; grep -v '^#' "$DATA/table_4_4_relaxation_devices.csv"; }
+[ -f "$DATA/table_4_5_relaxation_materials.csv" ] && { echo "Table 4.5 (thesis):"; grep -v '^#' "$DATA/table_4_5_relaxation_materials.csv"; }
+echo "== 2. FT4 preset, protocol 1, relaxation off (drop must be < 1 %)"
+"$EXE" --preset ft4 --relax_C 0 --threads "$THREADS" --output "$OUT" --name ft4_p1_off --quiet
+holds "$OUT/ft4_p1_off.protocol.json"
+echo "== 3. protocols 1-4, periodic bed: drop after 300 s of each hold"
+for p in 1 2 3 4; do
+  "$EXE" --protocol "$p" --width 6 --fill_height 8 --threads "$THREADS" --output "$OUT" --name periodic_p$p --quiet
+  echo "protocol $p"; holds "$OUT/periodic_p$p.protocol.json"
+done
+echo "(the drop at 300 s of holds longer than 300 s is read from periodic_pN.recording.csv, column step)"

@@ -1,0 +1,93 @@
+// pdpm-explain: locate where a recording and the baseline model disagree, name the missing
+// physics from a library of mechanisms, add it, refit, and accept it only under a strict criterion.
+// Documentation/tools-explain.md describes the method, the report and the measured performance.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "ExplainData.h"
+#include "ExplainModel.h"
+
+namespace pdpm::explain {
+
+struct ExplainOptions {
+    unsigned long seed = 1;
+    bool figures = true;             ///< write PNG figures with gnuplot (when it is installed)
+    std::vector<int> baselineComps;  ///< components always on (default: none beyond the baseline)
+    std::vector<int> candidates;     ///< mechanisms to screen (default: all)
+    std::vector<int> nuisances;      ///< nuisances to try first (default: compliance, drift)
+    double bicThreshold = 10;        ///< ΔBIC (with n_eff) needed to accept a mechanism
+    double ambiguityMargin = 6;      ///< ΔBIC difference below which two mechanisms are "ambiguous"
+    int maxMechanisms = 3;
+    int folds = 4;                   ///< blocked cross-validation folds
+    bool forceBest = false;
+    double knownNoiseSigma = 0;      ///< >0: instrument noise sd (Pa) from MODEL.json, used instead of the
+                                     ///< estimate (sparse records, where differences see the misfit)          ///< add the best candidate even if it fails (benchmark control)
+};
+
+/// Reads MODEL.json: {"driver": ..., "contact_law": ..., "baseline": [components always on],
+/// "candidates": [mechanism names], "nuisances": [...], "parameters": {...}} (all optional).
+void readModelFile(const std::string& path, ExplainOptions& opt);
+
+struct Candidate {
+    int comp = -1;
+    int round = 0;
+    double dBIC = 0;           ///< against the model of that round
+    double rss = 0;
+    double orthFraction = 0;   ///< |template ⊥ baseline Jacobian| / |template|
+    double minDetectable = 0;  ///< smallest detectable value of the primary parameter (linearised)
+    bool testable = true;
+    bool accepted = false;
+    double heldoutBase = -1, heldoutAug = -1;
+    std::string note;
+    std::vector<double> p, se;
+};
+
+struct Window {
+    std::size_t begin = 0, end = 0;
+    double tStart = 0, tEnd = 0, epsStart = 0, epsEnd = 0, sStart = 0, sEnd = 0;
+    std::string phase;
+    double share = 0;       ///< share of the excess residual energy
+    double meanZ = 0;       ///< mean normalised residual (sign of the mismatch)
+    bool mismatch = false;  ///< among the windows that carry 80 % of the excess
+};
+
+struct MechanismResult {
+    int comp = -1;
+    std::vector<int> params;
+    std::vector<double> value, lo, hi;
+    double inclusionProbability = 0;
+};
+
+struct ExplainResult {
+    std::string verdict;
+    std::string summary;
+    std::vector<MechanismResult> mechanisms;
+    std::vector<int> nuisances;
+    std::vector<Candidate> candidates;
+    std::vector<Window> windows;
+    std::string ambiguousWith;  ///< second mechanism when verdict == ambiguous
+    std::string separatingExperiment;
+    NoiseModel noise;
+    double pNoiseBaseline = 1, pNoiseFinal = 1, explainedFraction = 0;
+    double rmseBaseline = 0, rmseAugmented = 0, heldoutBaseline = 0, heldoutAugmented = 0;
+    double minDetectableRms = 0;  ///< smallest RMS effect (Pa) the data could reveal
+    std::vector<double> pBaseline, pFinal;
+    std::vector<char> onBaseline, onFinal;
+    std::vector<double> yBaseline, yFinal;  ///< model predictions
+    std::vector<Phase> phaseOfSample;
+};
+
+ExplainResult explain(const Recording& rec, const Protocol& proto, const ExplainOptions& opt);
+
+/// report.json, report.md, series.csv, candidates.csv, windows.csv and (if gnuplot exists) PNGs.
+void writeReport(const std::string& dir, const ExplainResult& r, const Recording& rec, const Protocol& proto,
+                 const ExplainOptions& opt);
+
+/// The command line of pdpm-explain (argv[1..]); returns the exit code.
+int runExplainCommand(const std::vector<std::string>& args);
+
+/// Experiment that separates two mechanisms.
+std::string separatingExperiment(int a, int b);
+
+} // namespace pdpm::explain

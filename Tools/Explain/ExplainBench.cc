@@ -1,0 +1,352 @@
+#include "ExplainBench.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <random>
+#include <sstream>
+
+#include "Core/Error.h"
+#include "ExplainModel.h"
+#include "IO/AtomicFile.h"
+
+namespace pdpm::explain {
+
+namespace {
+
+struct Seg {
+    double e0, e1, dur;
+};
+
+std::vector<std::pair<double, double>> effectWindows(const std::vector<double>& t, const std::vector<double>& d) {
+    double mx = 0;
+    for (double x : d) mx = std::max(mx, std::abs(x));
+    std::vector<std::pair<double, double>> w;
+    if (mx <= 0) return w;
+    for (std::size_t i = 0; i < d.size();) {
+        if (std::abs(d[i]) < 0.2 * mx) { ++i; continue; }
+        std::size_t j = i;
+        while (j < d.size() && std::abs(d[j]) >= 0.2 * mx) ++j;
+        if (j - i >= 3) w.push_back({t[i], t[j - 1]});
+        i = j;
+    }
+    return w;
+}
+
+} // namespace
+
+GeneratedCase generateCase(const CaseSpec& spec) {
+    std::mt19937_64 rng(spec.seed * 0x9E3779B97F4A7C15ULL + 12345);
+    std::uniform_real_distribution<double> U(0, 1);
+    auto uni = [&](double a, double b) { return a + (b - a) * U(rng); };
+    GeneratedCase g;
+    Protocol& P = g.proto;
+    const bool ft4 = U(rng) < 0.5;
+    P.device = ft4 ? "FT4 (generated)" : "lambdameter (generated)";
+    P.diameter = ft4 ? 0.05 : 0.149;
+    P.height = ft4 ? 0.05 : 0.06;
+    P.material = "generated";
+    P.source = "protocol.json";
+
+    std::vector<std::string> mechs;
+    std::string ool;
+    if (spec.kind.rfind("two:", 0) == 0) {
+        const std::string rest = spec.kind.substr(4);
+        const auto plus = rest.find('+');
+        mechs = {rest.substr(0, plus), rest.substr(plus + 1)};
+    } else if (spec.kind.rfind("ool:", 0) == 0) {
+        ool = spec.kind.substr(4);
+    } else if (spec.kind != "null") {
+        mechs = {spec.kind};
+    }
+    for (const auto& m : mechs)
+        if (compFromName(m) < 0 || !isMechanism(compFromName(m)) || compFromName(m) == kRolling)
+            inputError("generator: unknown or untestable mechanism '" + m + "'");
+    if (!ool.empty() && ool != "bump" && ool != "sine") inputError("generator: unknown out-of-library effect '" + ool + "'");
+    const bool hasCoh = std::find(mechs.begin(), mechs.end(), "cohesion") != mechs.end();
+
+    // true baseline
+    const double E = std::pow(10.0, uni(5, 7));
+    const double epsTop = uni(0.03, 0.15);
+    const double e0 = uni(0.0, 0.15) * epsTop;
+    const double rate = uni(0.02e-3, 0.1e-3) / P.height;
+    const int K = 3 + int(U(rng) * 3);
+    const double hold = uni(60, 300);
+    double tension = 0;
+    if (hasCoh) tension = uni(0.03, 0.1) * E * (epsTop - e0);
+    std::vector<Seg> segs;
+    double e = 0;
+    for (int k = 1; k <= K; ++k) {
+        const double ek = e0 + (epsTop - e0) * k / K;
+        segs.push_back({e, ek, (ek - e) / rate});
+        P.steps.push_back({StepType::Ramp, rate * P.height, -1, (ek - e) / rate});
+        segs.push_back({ek, ek, hold});
+        P.steps.push_back({StepType::Hold, -1, -1, hold});
+        e = ek;
+    }
+    const double eu = hasCoh ? e0 - 1.5 * tension / E : e0 + uni(0.05, 0.3) * (epsTop - e0);
+    segs.push_back({e, eu, (e - eu) / rate});
+    P.steps.push_back({StepType::Unload, rate * P.height, -1, (e - eu) / rate});
+    if (hasCoh) {  // lift-off test: hold in tension at the bottom of the unloading
+        segs.push_back({eu, eu, 0.5 * hold});
+        P.steps.push_back({StepType::Hold, -1, -1, 0.5 * hold});
+    }
+    segs.push_back({eu, e, (e - eu) / rate});
+    P.steps.push_back({StepType::Ramp, rate * P.height, -1, (e - eu) / rate});
+    segs.push_back({e, e, 0.5 * hold});
+    P.steps.push_back({StepType::Hold, -1, -1, 0.5 * hold});
+    double T = 0;
+    for (const auto& s : segs) T += s.dur;
+
+    Recording& R = g.rec;
+    const int n = spec.samples;
+    R.t.resize(std::size_t(n));
+    R.strain.resize(std::size_t(n));
+    R.source = "recording.csv";
+    R.strainSource = "axial_strain";
+    for (int i = 0; i < n; ++i) {
+        const double t = T * i / (n - 1);
+        double acc = 0, ev = segs.back().e1;
+        for (const auto& s : segs) {
+            if (t <= acc + s.dur) {
+                ev = s.e0 + (s.e1 - s.e0) * (s.dur > 0 ? (t - acc) / s.dur : 1);
+                break;
+            }
+            acc += s.dur;
+        }
+        R.t[std::size_t(i)] = t;
+        R.strain[std::size_t(i)] = std::round(ev / 1e-7) * 1e-7;
+    }
+    R.stress.resize(R.t.size());
+    for (std::size_t i = 0; i < R.t.size(); ++i) R.stress[i] = E * std::max(R.strain[i] - e0, 0.0) + 1;
+    const Model M(makeModelInput(R, P));
+    std::vector<double> p = M.defaults();
+    p[pE] = E;
+    p[pEps0] = e0;
+    const double smaxGuess = E * (epsTop - e0);
+    p[pKappa] = uni(0, 0.1);
+    p[pOffset] = uni(-0.01, 0.01) * smaxGuess;
+    p[pDrift] = uni(-0.01, 0.01) * smaxGuess / T;
+    std::vector<char> on(kNumComp, 0);
+    on[kBaseline] = on[kCompliance] = on[kDrift] = 1;
+    Json tp = Json::object();
+    std::string primaryName;
+    double primaryValue = 0, primaryOff = 0;
+    std::vector<double> yWithout;
+    M.evaluate(p, on, yWithout);
+    std::vector<double> minEffect;
+    double minMaxEffect = 1e300;
+    for (const auto& mname : mechs) {
+        const int c = compFromName(mname);
+        std::vector<double> q = p;
+        switch (c) {
+        case kRelaxation:
+            q[pRelaxC] = uni(0.02, 0.08);
+            q[pRelaxT0] = std::pow(10.0, uni(-1, 0.7));
+            break;
+        case kPlasticity: q[pLambda] = uni(2, 10); break;
+        case kCohesion: q[pTension] = tension; break;
+        case kWallFriction: q[pMuK] = uni(0.05, 0.3); break;
+        case kRate: q[pTauV] = uni(0.01, 0.05) * smaxGuess / (E * rate); break;
+        case kNonlinearity: q[pExpN] = U(rng) < 0.5 ? uni(1.3, 2.0) : uni(0.6, 0.8); break;
+        default: break;
+        }
+        std::vector<char> onm = on;
+        onm[c] = 1;
+        std::vector<double> ym;
+        M.evaluate(q, onm, ym);
+        double mx = 0;
+        for (std::size_t i = 0; i < ym.size(); ++i) mx = std::max(mx, std::abs(ym[i] - yWithout[i]));
+        minMaxEffect = std::min(minMaxEffect, mx);
+        for (int k : M.paramsOf(c)) {
+            p[k] = q[k];
+            tp.set(M.defs()[k].name, q[k]);
+        }
+        if (primaryName.empty()) {
+            const int pp = c == kRelaxation ? pRelaxC : c == kPlasticity ? pLambda : c == kCohesion ? pTension
+                         : c == kWallFriction ? pMuK : c == kRate ? pTauV : pExpN;
+            primaryName = M.defs()[pp].name;
+            primaryValue = q[pp];
+            primaryOff = M.defs()[pp].off;
+        }
+        on[c] = 1;
+    }
+    std::vector<double> yWith;
+    M.evaluate(p, on, yWith);
+    double smax = 0;
+    for (double x : yWith) smax = std::max(smax, std::abs(x));
+    double sigma;
+    std::vector<double> effect(yWith.size());
+    for (std::size_t i = 0; i < yWith.size(); ++i) effect[i] = yWith[i] - yWithout[i];
+    if (!mechs.empty()) {
+        sigma = minMaxEffect / spec.snr;
+    } else {
+        sigma = uni(0.002, 0.02) * smax;
+        if (!ool.empty()) {
+            const double A = spec.snr * sigma;
+            const double tc = uni(0.2, 0.7) * T, w = T / 30;
+            for (std::size_t i = 0; i < yWith.size(); ++i) {
+                const double t = R.t[i];
+                effect[i] = ool == "bump" ? A * std::exp(-(t - tc) * (t - tc) / (w * w)) : A * std::sin(2 * M_PI * t / (T / 5));
+                yWith[i] += effect[i];
+            }
+        }
+    }
+    // AR(1) noise with marginal sd sigma, quantised at sigma/2
+    std::normal_distribution<double> N(0, 1);
+    double x = N(rng) * sigma;
+    const double q = sigma / 2;
+    double e2 = 0, emx = 0;
+    for (std::size_t i = 0; i < yWith.size(); ++i) {
+        if (i > 0) x = spec.rho * x + std::sqrt(1 - spec.rho * spec.rho) * sigma * N(rng);
+        R.stress[i] = std::round((yWith[i] + x) / q) * q;
+        e2 += effect[i] * effect[i];
+        emx = std::max(emx, std::abs(effect[i]));
+    }
+    const double nEff = double(n) * (1 - spec.rho) / (1 + spec.rho);
+    Json tr = Json::object();
+    tr.set("kind", spec.kind);
+    Json ms = Json::array();
+    for (const auto& m : mechs) ms.push(Json(m));
+    tr.set("mechanisms", ms);
+    tr.set("out_of_library", !ool.empty());
+    tr.set("parameters", tp);
+    if (!primaryName.empty()) {
+        tr.set("primary_parameter", primaryName);
+        tr.set("primary_value", primaryValue);
+        tr.set("primary_off", primaryOff);
+    }
+    tr.set("snr_peak", spec.snr);
+    tr.set("snr_integrated", emx > 0 ? std::sqrt(e2 * nEff / double(n)) / sigma : 0.0);
+    tr.set("rho", spec.rho);
+    tr.set("sigma_Pa", sigma);
+    tr.set("seed", double(spec.seed));
+    tr.set("samples", n);
+    tr.set("duration_s", T);
+    Json wraw = Json::array();
+    for (auto [a, b] : effectWindows(R.t, effect)) wraw.push(Json::array({Json(a), Json(b)}));
+    tr.set("windows_raw_effect", wraw);
+    // where the mismatch is visible: the noise-free recording minus the best baseline (+ nuisances)
+    // fit to it, i.e. what the baseline cannot imitate by re-tuning its own parameters
+    Json wj = Json::array();
+    if (!mechs.empty() || !ool.empty()) {
+        std::vector<char> onB(kNumComp, 0);
+        onB[kBaseline] = onB[kCompliance] = onB[kDrift] = 1;
+        FitOptions fo;
+        for (int c : {int(kBaseline), int(kCompliance), int(kDrift)})
+            for (int k : M.paramsOf(c)) fo.freeParams.push_back(k);
+        std::vector<double> start = p;
+        for (int c = kRelaxation; c < kNumComp; ++c)
+            for (int k : M.paramsOf(c))
+                if (!std::isnan(M.defs()[k].off)) start[k] = M.defs()[k].off;
+        const FitResult fb = fitModel(M, yWith, onB, start, fo);
+        std::vector<double> vis(yWith.size());
+        for (std::size_t i = 0; i < vis.size(); ++i) vis[i] = yWith[i] - fb.model[i];
+        for (auto [a, b] : effectWindows(R.t, vis)) wj.push(Json::array({Json(a), Json(b)}));
+    }
+    tr.set("windows", wj);
+    g.truth = tr;
+    return g;
+}
+
+void writeRecordingCsv(const Recording& r, const std::string& path, const std::vector<std::string>& comments) {
+    std::ostringstream os;
+    for (const auto& c : comments) os << "# " << c << "\n";
+    os << "time_s,axial_strain,axial_stress_Pa" << (r.lateral.empty() ? "" : ",lateral_stress_Pa") << "\n";
+    os << std::setprecision(12);
+    for (std::size_t i = 0; i < r.t.size(); ++i) {
+        os << r.t[i] << ',' << r.strain[i] << ',' << r.stress[i];
+        if (!r.lateral.empty()) os << ',' << r.lateral[i];
+        os << '\n';
+    }
+    writeWholeFile(path, os.str());
+}
+
+void writeProtocolJson(const Protocol& p, const std::string& path) {
+    Json j = Json::object();
+    j.set("device", p.device);
+    Json g = Json::object();
+    g.set("diameter_m", p.diameter);
+    g.set("height_m", p.height);
+    j.set("geometry", g);
+    j.set("material", p.material);
+    Json st = Json::array();
+    for (const auto& s : p.steps) {
+        Json o = Json::object();
+        o.set("type", stepTypeName(s.type));
+        if (s.velocity >= 0) o.set("velocity_m_s", s.velocity);
+        if (s.targetStress >= 0) o.set("target_stress_Pa", s.targetStress);
+        if (s.duration >= 0) o.set("duration_s", s.duration);
+        st.push(o);
+    }
+    j.set("steps", st);
+    writeJsonFile(path, j);
+}
+
+void writeCase(const GeneratedCase& g, const std::string& caseDir, const std::string& truthPath) {
+    ensureDirectory(caseDir);
+    writeRecordingCsv(g.rec, caseDir + "/recording.csv", {"generated blind-benchmark case (pdpm-explain-data generate)"});
+    writeProtocolJson(g.proto, caseDir + "/protocol.json");
+    writeJsonFile(truthPath, g.truth);
+}
+
+CaseScore scoreCase(const Json& report, const Json& truth) {
+    CaseScore s;
+    s.verdict = report.at("verdict").asString();
+    s.truthKind = truth.at("kind").asString();
+    s.snr = truth.at("snr_peak").asNumber();
+    s.rho = truth.at("rho").asNumber();
+    const auto& tm = truth.at("mechanisms").asArray();
+    s.outOfLibrary = truth.at("out_of_library").asBool();
+    s.positive = !tm.empty();
+    s.ambiguous = s.verdict == "ambiguous";
+    if (s.positive) s.detected = s.verdict == "missing_physics" || s.verdict == "ambiguous";
+    else s.detected = s.verdict != "no_missing_physics";
+    std::vector<std::string> found;
+    for (const auto& m : report.at("mechanisms").asArray()) found.push_back(m.at("name").asString());
+    if (s.ambiguous && report.has("ambiguous_with")) found.push_back(report.at("ambiguous_with").asString());
+    if (s.positive && s.detected && !found.empty()) {
+        // correct: every reported mechanism is true, and the first true one is found
+        bool allTrue = true;
+        for (const auto& f : found) {
+            bool t = false;
+            for (const auto& m : tm) t = t || m.asString() == f;
+            if (!t && !(s.ambiguous && f == found.back())) allTrue = false;
+        }
+        bool firstFound = false;
+        for (const auto& f : found) firstFound = firstFound || f == tm.front().asString();
+        s.correctMechanism = allTrue && firstFound;
+    }
+    // window IoU on a fine time grid
+    const double T = truth.at("duration_s").asNumber();
+    const auto& tw = truth.at("windows").asArray();
+    std::vector<std::pair<double, double>> pw;
+    for (const auto& w : report.at("windows").asArray())
+        if (w.at("mismatch").asBool()) pw.push_back({w.at("t_start_s").asNumber(), w.at("t_end_s").asNumber()});
+    int inter = 0, uni = 0;
+    const int G = 20000;
+    for (int k = 0; k < G; ++k) {
+        const double t = T * (k + 0.5) / G;
+        bool a = false, b = false;
+        for (const auto& w : tw) a = a || (t >= w.asArray()[0].asNumber() && t <= w.asArray()[1].asNumber());
+        for (auto [x, y] : pw) b = b || (t >= x && t <= y);
+        inter += a && b;
+        uni += a || b;
+    }
+    s.iou = uni > 0 ? double(inter) / uni : 0;
+    if (s.positive && truth.has("primary_parameter")) {
+        const std::string pn = truth.at("primary_parameter").asString();
+        const double tv = truth.at("primary_value").asNumber(), off = truth.at("primary_off").asNumber();
+        for (const auto& m : report.at("mechanisms").asArray()) {
+            const Json* pj = m.at("parameters").find(pn);
+            if (pj && m.at("name").asString() == tm.front().asString())
+                s.paramRelError = std::abs(pj->at("value").asNumber() - tv) / std::abs(tv - off);
+        }
+    }
+    const Json& f = report.at("fit");
+    const double hb = f.at("heldout_rmse_baseline").asNumber(), ha = f.at("heldout_rmse_augmented").asNumber();
+    s.heldoutGain = hb > 0 ? 1 - ha / hb : 0;
+    return s;
+}
+
+} // namespace pdpm::explain

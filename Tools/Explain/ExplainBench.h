@@ -1,0 +1,50 @@
+// pdpm-explain blind benchmark: a generator of concealed-effect recordings (surrogate model +
+// coloured noise, drift, quantisation, nuisances) whose truth goes to a separate file, and a
+// scorer that reads only report.json and truth.json.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "ExplainData.h"
+#include "IO/Json.h"
+
+namespace pdpm::explain {
+
+/// kind: "null", a mechanism name ("contact_relaxation", ...), "two:A+B" (two mechanisms), or an
+/// out-of-library effect "ool:bump" / "ool:sine".
+struct CaseSpec {
+    std::string kind = "null";
+    double snr = 3;        ///< peak |effect| / noise sd (pointwise SNR)
+    double rho = 0.5;      ///< AR(1) coefficient of the noise
+    unsigned long seed = 1;
+    int samples = 3000;
+};
+
+struct GeneratedCase {
+    Recording rec;
+    Protocol proto;
+    Json truth;
+};
+
+GeneratedCase generateCase(const CaseSpec& spec);
+/// Writes CASE_DIR/recording.csv and CASE_DIR/protocol.json, and TRUTH_PATH (separately).
+void writeCase(const GeneratedCase& g, const std::string& caseDir, const std::string& truthPath);
+void writeRecordingCsv(const Recording& r, const std::string& path, const std::vector<std::string>& comments);
+void writeProtocolJson(const Protocol& p, const std::string& path);
+
+struct CaseScore {
+    bool positive = false;     ///< something is truly missing (in the library)
+    bool outOfLibrary = false;
+    bool detected = false;     ///< verdict missing_physics or ambiguous (positives) / not no_missing_physics (nulls)
+    bool correctMechanism = false;
+    bool ambiguous = false;
+    double iou = 0;
+    double paramRelError = -1; ///< |estimate - truth| / |truth - off| of the primary parameter (-1: n/a)
+    double heldoutGain = 0;    ///< 1 - heldout_aug / heldout_base
+    std::string verdict, truthKind;
+    double snr = 0, rho = 0;
+};
+
+CaseScore scoreCase(const Json& report, const Json& truth);
+
+} // namespace pdpm::explain

@@ -1,0 +1,231 @@
+#include "ExplainData.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "Core/Error.h"
+#include "IO/Csv.h"
+#include "IO/Json.h"
+
+namespace pdpm::explain {
+
+const char* stepTypeName(StepType t) {
+    switch (t) {
+    case StepType::Ramp: return "ramp";
+    case StepType::Hold: return "hold";
+    case StepType::Unload: return "unload";
+    case StepType::Creep: return "creep";
+    }
+    return "?";
+}
+
+const char* phaseName(Phase p) {
+    switch (p) {
+    case Phase::Load: return "load";
+    case Phase::Hold: return "hold";
+    case Phase::Unload: return "unload";
+    case Phase::Reload: return "reload";
+    }
+    return "?";
+}
+
+namespace {
+
+double positiveNumber(const Json& obj, const std::string& key, const std::string& what) {
+    const double v = obj.at(key).asNumber(what + "." + key);
+    if (!(v > 0)) inputError(what + "." + key + " must be > 0 (got " + std::to_string(v) + ")");
+    return v;
+}
+
+double optionalNonNegative(const Json& obj, const std::string& key, const std::string& what) {
+    const Json* j = obj.find(key);
+    if (!j || j->isNull()) return -1;
+    const double v = j->asNumber(what + "." + key);
+    if (v < 0) inputError(what + "." + key + " must be >= 0 (got " + std::to_string(v) + ")");
+    return v;
+}
+
+} // namespace
+
+Protocol readProtocol(const std::string& path) {
+    const Json j = readJsonFile(path);
+    if (!j.isObject()) inputError(path + ": protocol must be a JSON object");
+    Protocol p;
+    p.source = path;
+    if (j.has("device")) p.device = j.at("device").asString(path + ": device");
+    if (j.has("material")) {
+        const Json& m = j.at("material");
+        p.material = m.isString() ? m.asString() : m.dump(0);
+    }
+    const Json& g = j.at("geometry");
+    if (!g.isObject()) inputError(path + ": geometry must be an object");
+    p.diameter = positiveNumber(g, "diameter_m", path + ": geometry");
+    p.height = positiveNumber(g, "height_m", path + ": geometry");
+    const auto& steps = j.at("steps").asArray(path + ": steps");
+    if (steps.empty()) inputError(path + ": steps is empty");
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        const std::string what = path + ": steps[" + std::to_string(i) + "]";
+        const Json& s = steps[i];
+        if (!s.isObject()) inputError(what + " must be an object");
+        const std::string& type = s.at("type").asString(what + ".type");
+        ProtocolStep st;
+        if (type == "ramp") st.type = StepType::Ramp;
+        else if (type == "hold") st.type = StepType::Hold;
+        else if (type == "unload") st.type = StepType::Unload;
+        else if (type == "creep") st.type = StepType::Creep;
+        else inputError(what + ".type '" + type + "' is not one of ramp, hold, unload, creep");
+        st.velocity = optionalNonNegative(s, "velocity_m_s", what);
+        st.targetStress = optionalNonNegative(s, "target_stress_Pa", what);
+        st.duration = optionalNonNegative(s, "duration_s", what);
+        p.steps.push_back(st);
+    }
+    return p;
+}
+
+Recording readRecording(const std::string& path, const Protocol& proto) {
+    const CsvTable tab = readCsv(path);
+    Recording r;
+    r.source = path;
+    if (!tab.hasColumn("time_s")) inputError(path + ": required column time_s is missing");
+    static const char* known[] = {"axial_stress_Pa", "axial_strain", "piston_position_m",
+                                  "lateral_stress_Pa", "bottom_stress_Pa", "volume_fraction"};
+    bool any = false;
+    for (const char* k : known) any = any || tab.hasColumn(k);
+    if (!any) inputError(path + ": none of the measurement columns (axial_stress_Pa, axial_strain, ...) is present");
+    if (tab.rows.size() < 20) inputError(path + ": " + std::to_string(tab.rows.size()) + " samples; at least 20 are needed");
+    r.t = tab.columnValues("time_s");
+    for (std::size_t i = 1; i < r.t.size(); ++i)
+        if (!(r.t[i] > r.t[i - 1]))
+            inputError(path + ": time_s must increase strictly (sample " + std::to_string(i + 1) + ")");
+    if (!tab.hasColumn("axial_stress_Pa"))
+        inputError(path + ": pdpm-explain needs the response column axial_stress_Pa");
+    r.stress = tab.columnValues("axial_stress_Pa");
+    if (tab.hasColumn("axial_strain")) {
+        r.strain = tab.columnValues("axial_strain");
+        r.strainSource = "axial_strain";
+    } else if (tab.hasColumn("piston_position_m")) {
+        const auto z = tab.columnValues("piston_position_m");
+        r.strain.resize(z.size());
+        for (std::size_t i = 0; i < z.size(); ++i) r.strain[i] = (z[0] - z[i]) / proto.height;
+        r.strainSource = "piston_position_m";
+    } else {
+        inputError(path + ": pdpm-explain needs a control channel: axial_strain or piston_position_m");
+    }
+    for (double e : r.strain)
+        if (std::abs(e) >= 1) inputError(path + ": axial strain " + std::to_string(e) + " is not in (-1, 1)");
+    if (tab.hasColumn("lateral_stress_Pa")) r.lateral = tab.columnValues("lateral_stress_Pa");
+    double smax = 0, emin = r.strain[0], emax = r.strain[0];
+    for (std::size_t i = 0; i < r.size(); ++i) {
+        smax = std::max(smax, std::abs(r.stress[i]));
+        emin = std::min(emin, r.strain[i]);
+        emax = std::max(emax, r.strain[i]);
+    }
+    if (!(smax > 0)) inputError(path + ": axial_stress_Pa is zero throughout");
+    if (!(emax > emin)) inputError(path + ": the control channel (" + r.strainSource + ") never changes");
+    return r;
+}
+
+void checkConsistency(const Recording& rec, const Protocol& proto) {
+    double total = 0;
+    bool all = true;
+    for (const auto& s : proto.steps) {
+        if (s.duration < 0) all = false;
+        else total += s.duration;
+    }
+    const double span = rec.t.back() - rec.t.front();
+    if (all && total > 0 && (total > 1.25 * span + 1 || total < 0.75 * span - 1)) {
+        std::ostringstream os;
+        os << "protocol " << proto.source << " lasts " << total << " s (sum of duration_s) but recording "
+           << rec.source << " spans " << span << " s: they do not describe the same test";
+        inputError(os.str());
+    }
+    double smax = 0;
+    for (double s : rec.stress) smax = std::max(smax, s);
+    for (std::size_t i = 0; i < proto.steps.size(); ++i) {
+        const double ts = proto.steps[i].targetStress;
+        if (ts > 0 && ts > 2.0 * smax + 1) {
+            std::ostringstream os;
+            os << "protocol step " << i << " targets " << ts << " Pa but recording " << rec.source
+               << " never exceeds " << smax << " Pa: inconsistent inputs";
+            inputError(os.str());
+        }
+    }
+}
+
+std::vector<double> smoothedRate(const std::vector<double>& t, const std::vector<double>& x, int hw) {
+    const std::size_t n = t.size();
+    std::vector<double> r(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t a = i >= std::size_t(hw) ? i - hw : 0;
+        const std::size_t b = std::min(n - 1, i + hw);
+        double st = 0, sx = 0;
+        const double m = double(b - a + 1);
+        for (std::size_t k = a; k <= b; ++k) { st += t[k]; sx += x[k]; }
+        st /= m; sx /= m;
+        double stt = 0, stx = 0;
+        for (std::size_t k = a; k <= b; ++k) {
+            stt += (t[k] - st) * (t[k] - st);
+            stx += (t[k] - st) * (x[k] - sx);
+        }
+        r[i] = stt > 0 ? stx / stt : 0;
+    }
+    return r;
+}
+
+std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::vector<double>& e) {
+    const std::size_t n = t.size();
+    const int hw = std::max(1, int(n / 800));
+    const auto rate = smoothedRate(t, e, hw);
+    std::vector<double> a;
+    for (double r : rate) a.push_back(std::abs(r));
+    std::vector<double> s = a;
+    std::sort(s.begin(), s.end());
+    const double typical = s[std::size_t(0.95 * (n - 1))];
+    const double thr = 0.02 * typical;
+    std::vector<Phase> ph(n);
+    double emax = e[0];
+    const double range = *std::max_element(e.begin(), e.end()) - *std::min_element(e.begin(), e.end());
+    for (std::size_t i = 0; i < n; ++i) {
+        if (a[i] <= thr) ph[i] = Phase::Hold;
+        else if (rate[i] < 0) ph[i] = Phase::Unload;
+        else ph[i] = (e[i] < emax - 1e-3 * range) ? Phase::Reload : Phase::Load;
+        emax = std::max(emax, e[i]);
+    }
+    std::vector<PhaseSegment> seg;
+    for (std::size_t i = 0; i < n;) {
+        std::size_t j = i;
+        while (j < n && ph[j] == ph[i]) ++j;
+        seg.push_back({ph[i], i, j});
+        i = j;
+    }
+    // merge pieces shorter than the smoothing window into the longer neighbour
+    const std::size_t minLen = std::size_t(2 * hw + 2);
+    bool changed = true;
+    while (changed && seg.size() > 1) {
+        changed = false;
+        for (std::size_t k = 0; k < seg.size(); ++k) {
+            if (seg[k].end - seg[k].begin >= minLen) continue;
+            std::size_t into;
+            if (k == 0) into = 1;
+            else if (k + 1 == seg.size()) into = k - 1;
+            else into = (seg[k - 1].end - seg[k - 1].begin >= seg[k + 1].end - seg[k + 1].begin) ? k - 1 : k + 1;
+            seg[into].begin = std::min(seg[into].begin, seg[k].begin);
+            seg[into].end = std::max(seg[into].end, seg[k].end);
+            seg.erase(seg.begin() + long(k));
+            changed = true;
+            break;
+        }
+        for (std::size_t k = 1; k < seg.size();) {
+            if (seg[k].phase == seg[k - 1].phase) {
+                seg[k - 1].end = seg[k].end;
+                seg.erase(seg.begin() + long(k));
+            } else {
+                ++k;
+            }
+        }
+    }
+    return seg;
+}
+
+} // namespace pdpm::explain

@@ -1,0 +1,70 @@
+// pdpm-explain: input data (recording + protocol), phase detection.
+//
+// A minimal reader for the recording format of issue 5 (CSV with '#' comments, column time_s and
+// at least one of axial_stress_Pa, axial_strain, piston_position_m, lateral_stress_Pa,
+// bottom_stress_Pa, volume_fraction; plus a JSON protocol file). It lives here until the shared
+// Tools/Recording library exists; the lead will switch it over.
+//
+// The explainer treats the axial strain (compression positive) as the control channel and the
+// axial stress as the response. The strain comes from `axial_strain`, or else from
+// `piston_position_m` and the protocol's geometry.height_m (strain = (z0 - z) / height).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace pdpm::explain {
+
+enum class StepType { Ramp, Hold, Unload, Creep };
+
+struct ProtocolStep {
+    StepType type = StepType::Ramp;
+    double velocity = -1;      ///< m/s, <0: not given
+    double targetStress = -1;  ///< Pa, <0: not given
+    double duration = -1;      ///< s, <0: not given
+};
+
+struct Protocol {
+    std::string device;
+    double diameter = 0;  ///< m
+    double height = 0;    ///< m (initial fill height)
+    std::string material;
+    std::vector<ProtocolStep> steps;
+    std::string source;
+};
+
+struct Recording {
+    std::vector<double> t;       ///< s, strictly increasing
+    std::vector<double> strain;  ///< axial strain, compression positive
+    std::vector<double> stress;  ///< axial stress at the piston, Pa
+    std::vector<double> lateral; ///< lateral stress, Pa (empty if not recorded)
+    std::string source;
+    std::string strainSource;    ///< "axial_strain" or "piston_position_m"
+    std::size_t size() const { return t.size(); }
+};
+
+/// Protocol JSON; InputError with a clear message on anything malformed.
+Protocol readProtocol(const std::string& path);
+/// Recording CSV; needs the protocol for piston-position recordings. InputError when malformed,
+/// when the control or response channel is missing, or when it is inconsistent with the protocol.
+Recording readRecording(const std::string& path, const Protocol& proto);
+/// Cross-checks (durations vs record length, stress levels); InputError on inconsistency.
+void checkConsistency(const Recording& rec, const Protocol& proto);
+
+const char* stepTypeName(StepType t);
+
+/// Phase of each sample derived from the control channel.
+enum class Phase { Load, Hold, Unload, Reload };
+const char* phaseName(Phase p);
+
+struct PhaseSegment {
+    Phase phase;
+    std::size_t begin, end;  ///< sample range [begin, end)
+};
+
+/// Smoothed strain rate (local linear regression over a centred window).
+std::vector<double> smoothedRate(const std::vector<double>& t, const std::vector<double>& x, int halfWindow);
+/// Phase segments of a strain history: hold where |rate| is below 2 % of the typical ramp rate,
+/// load / reload (below the previous maximum strain) / unload otherwise; short pieces merged.
+std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::vector<double>& strain);
+
+} // namespace pdpm::explain

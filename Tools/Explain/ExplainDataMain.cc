@@ -1,0 +1,216 @@
+// pdpm-explain-data: inputs for pdpm-explain in the recording format.
+//   generate     --kind K --snr S --rho R --seed N --samples M --output CASE_DIR --truth TRUTH.json
+//   thesis       --material cocoa|limestone --output DIR [--seed N]
+//                reconstructs the lambdameter protocol-1 test of thesis chapter 4 from Tables 4.4/4.5
+//   import-kfs   --input OEk.dat --output DIR     (Karlsruhe fine sand oedometer, KFSDB)
+//   import-cheng --input obsdata.dat --output DIR (GrainLearning glass-bead oedometer)
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+
+#include "Cli.h"
+#include "Core/Error.h"
+#include "ExplainBench.h"
+#include "IO/AtomicFile.h"
+#include "IO/Csv.h"
+
+using namespace pdpm;
+using namespace pdpm::explain;
+
+namespace {
+
+std::vector<std::vector<double>> readWhitespaceTable(const std::string& path, int skipLines, std::size_t cols) {
+    std::ifstream in(path);
+    if (!in) inputError(path + ": cannot be read");
+    std::string line;
+    std::vector<std::vector<double>> rows;
+    int ln = 0;
+    while (std::getline(in, line)) {
+        ++ln;
+        if (ln <= skipLines) continue;
+        if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+        std::istringstream is(line);
+        std::vector<double> r;
+        double v;
+        while (is >> v) r.push_back(v);
+        if (r.size() < cols) inputError(path + ":" + std::to_string(ln) + ": expected " + std::to_string(cols) + " numbers");
+        rows.push_back(r);
+    }
+    if (rows.size() < 20) inputError(path + ": too few data rows");
+    return rows;
+}
+
+int thesis(const std::string& material, const std::string& dataDir, const std::string& out, unsigned long seed) {
+    // Table 4.5 (lambdameter, protocol 1): sigma_max (kPa), t0 (s), C per hold R1..R5.
+    // the table has a text column (step), so strip it before the strict numeric CSV parser
+    const std::string path = dataDir + "/thesis/table_4_5_relaxation_materials.csv";
+    std::istringstream raw(readWholeFile(path));
+    std::string text, line;
+    while (std::getline(raw, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        const auto comma = line.find(',');
+        text += (comma == std::string::npos ? line : line.substr(comma + 1)) + "\n";
+    }
+    const CsvTable tb = parseCsv(text, path);
+    const bool cocoa = material == "cocoa";
+    const auto smax = tb.columnValues(cocoa ? "sigma_max_C_kPa" : "sigma_max_E_kPa");
+    const auto t0 = tb.columnValues(cocoa ? "t0_C_s" : "t0_E_s");
+    const auto C = tb.columnValues(cocoa ? "C_C" : "C_E");
+    // Assumed loading curve (not in the tables): sigma = s25 * (eps/eps25)^2 with eps25 = 0.25
+    // (cocoa) / 0.30 (limestone, softer), i.e. the stiffening typical of powders under compression.
+    const double H = 0.06, D = 0.149, v = 0.05e-3, rate = v / H, hold = 300, fs = 5.0;
+    const double eps25 = cocoa ? 0.25 : 0.30, s25 = 25.0e3, m = 2.0;
+    auto load = [&](double e) { return s25 * std::pow(std::max(e, 0.0) / eps25, m); };
+    auto tangent = [&](double e) { return s25 * m * std::pow(std::max(e, 1e-9) / eps25, m - 1) / eps25; };
+    std::vector<double> epsK;
+    for (double s : smax) epsK.push_back(eps25 * std::pow(s * 1e3 / s25, 1 / m));
+    Recording r;
+    Protocol p;
+    p.device = "lambdameter (reconstructed from thesis Table 4.5)";
+    p.diameter = D;
+    p.height = H;
+    p.material = cocoa ? "cocoa powder (12 % fat)" : "Eskal 500 limestone";
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> N(0, 1);
+    const double sigma = 15.0, rho = 0.5, q = 1.0;  // load-cell noise (Pa), AR(1), quantisation (Pa)
+    double noise = 0, t = 0, e = 0, deficit = 0;
+    const double dt = 1 / fs;
+    auto emit = [&](double stress) {
+        noise = rho * noise + std::sqrt(1 - rho * rho) * sigma * N(rng);
+        r.t.push_back(t);
+        r.strain.push_back(e);
+        r.stress.push_back(std::round((stress + noise + 2.0e-3 * t) / q) * q);  // 2 mPa/s drift
+        t += dt;
+    };
+    for (std::size_t k = 0; k < smax.size(); ++k) {
+        const double eStart = e, dEnd = deficit, erec = dEnd > 0 ? dEnd / tangent(eStart) : 1;
+        p.steps.push_back({StepType::Ramp, v, smax[k] * 1e3, (epsK[k] - eStart) / rate});
+        while (e < epsK[k]) {
+            deficit = dEnd * std::exp(-(e - eStart) / erec);
+            emit(load(e) - deficit);
+            e = std::min(epsK[k], e + rate * dt);
+        }
+        e = epsK[k];
+        deficit = dEnd * std::exp(-(e - eStart) / erec);
+        const double sh = smax[k] * 1e3 - deficit;
+        p.steps.push_back({StepType::Hold, -1, -1, hold});
+        const double th = t;
+        while (t - th < hold) {
+            const double rel = sh * std::pow(1 + (t - th) / t0[k], -C[k]);
+            emit(rel);
+            deficit = smax[k] * 1e3 - rel;
+        }
+    }
+    // the step durations must add up to the record
+    double sum = 0;
+    for (auto& s : p.steps) sum += s.duration;
+    p.steps.back().duration += (r.t.back() - r.t.front()) - sum;
+    ensureDirectory(out);
+    writeRecordingCsv(r, out + "/recording.csv",
+                      {"Reconstruction of thesis chapter 4, protocol 1, lambdameter, " + p.material,
+                       "holds: Eq. 4.3 with sigma_max, t0, C of Table 4.5 per hold; loading curve assumed sigma ~ eps^2",
+                       "sampling 5 Hz, AR(1) noise sd 15 Pa rho 0.5, quantisation 1 Pa, drift 2 mPa/s"});
+    writeProtocolJson(p, out + "/protocol.json");
+    double cm = 0;
+    for (double c : C) cm += c;
+    Json truth = Json::object();
+    truth.set("material", material);
+    truth.set("C_mean", cm / double(C.size()));
+    Json cs = Json::array();
+    for (double c : C) cs.push(Json(c));
+    truth.set("C_per_hold", cs);
+    writeJsonFile(out + "/thesis-values.json", truth);
+    std::cout << "wrote " << out << "/recording.csv (" << r.t.size() << " samples)\n";
+    return 0;
+}
+
+int importKfs(const std::string& in, const std::string& out) {
+    const auto rows = readWhitespaceTable(in, 3, 3);
+    Recording r;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        r.t.push_back(double(i));
+        r.strain.push_back(rows[i][1] / 100);
+        r.stress.push_back(rows[i][0] * 1e3);
+    }
+    Protocol p;
+    p.device = "oedometer (KFSDB, Wichtmann & Triantafyllidis 2016)";
+    p.diameter = 0.07;  // assumed (not in the data); only wall_friction uses it
+    p.height = 0.02;
+    p.material = "Karlsruhe fine sand";
+    p.steps = {{StepType::Ramp, -1, 407e3, -1}, {StepType::Unload, -1, -1, -1}, {StepType::Ramp, -1, 407e3, -1}};
+    ensureDirectory(out);
+    writeRecordingCsv(r, out + "/recording.csv",
+                      {"imported from " + in + " (sigma1 kPa -> Pa, eps1 % -> strain)",
+                       "time_s is the row index: the file has no time; geometry assumed D = 70 mm, H = 20 mm"});
+    writeProtocolJson(p, out + "/protocol.json");
+    return 0;
+}
+
+int importCheng(const std::string& in, const std::string& out) {
+    const auto rows = readWhitespaceTable(in, 1, 4);
+    Recording r;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const double pm = rows[i][1], q = rows[i][2];
+        r.t.push_back(double(i));
+        r.strain.push_back(rows[i][0]);
+        r.stress.push_back((pm + 2 * q / 3) * 1e6);
+        r.lateral.push_back((pm - q / 3) * 1e6);
+    }
+    Protocol p;
+    p.device = "oedometer with lateral stress (GrainLearning obsdata.dat)";
+    p.diameter = 0.05;  // assumed
+    p.height = 0.02;
+    p.material = "glass beads";
+    p.steps = {{StepType::Ramp, -1, -1, -1}, {StepType::Unload, -1, -1, -1}, {StepType::Ramp, -1, -1, -1},
+               {StepType::Unload, -1, -1, -1}};
+    ensureDirectory(out);
+    writeRecordingCsv(r, out + "/recording.csv",
+                      {"imported from " + in + ": sigma_a = p + 2q/3, sigma_r = p - q/3, unit assumed MPa",
+                       "time_s is the row index: the file has no time"});
+    writeProtocolJson(p, out + "/protocol.json");
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return tools::runTool("pdpm-explain-data", [&] {
+        if (argc < 2) inputError("usage: pdpm-explain-data generate|thesis|import-kfs|import-cheng [--help]");
+        const std::string cmd = argv[1];
+        std::vector<std::string> args(argv + 2, argv + argc);
+        tools::Cli cli("pdpm-explain-data " + cmd, "inputs for pdpm-explain (see Documentation/tools-explain.md)");
+        std::string output, input, truth, kind, material, dataDir;
+        double snr = 3, rho = 0.5;
+        int seed = 1, samples = 3000;
+        cli.add("output", &output, "", "output directory");
+        if (cmd == "generate") {
+            cli.add("kind", &kind, "null", "null | MECHANISM | two:A+B | ool:bump | ool:sine");
+            cli.add("snr", &snr, 3, "-", "peak effect / noise sd", 0, 1e6, true, false);
+            cli.add("rho", &rho, 0.5, "-", "AR(1) coefficient of the noise", 0, 0.99);
+            cli.add("seed", &seed, 1, "seed", 0, 2147483647);
+            cli.add("samples", &samples, 3000, "samples", 50, 10000000);
+            cli.add("truth", &truth, "", "where to write the sealed truth (JSON)");
+        } else if (cmd == "thesis") {
+            cli.add("material", &material, "cocoa", "material", {"cocoa", "limestone"});
+            cli.add("seed", &seed, 1, "seed of the noise", 0, 2147483647);
+            cli.add("data", &dataDir, PDPM_SHARED_DATA, "shared data folder (holds thesis/table_4_5_relaxation_materials.csv)");
+        } else if (cmd == "import-kfs" || cmd == "import-cheng") {
+            cli.add("input", &input, "", "data file");
+        } else {
+            inputError("unknown sub-command '" + cmd + "' (generate, thesis, import-kfs, import-cheng)");
+        }
+        if (!cli.parse(args, std::cout)) return 0;
+        if (output.empty()) inputError("--output is required");
+        if (cmd == "generate") {
+            if (truth.empty()) inputError("--truth is required");
+            CaseSpec s{kind, snr, rho, (unsigned long)seed, samples};
+            writeCase(generateCase(s), output, truth);
+            return 0;
+        }
+        if (cmd == "thesis") return thesis(material, dataDir, output, (unsigned long)seed);
+        if (input.empty()) inputError("--input is required");
+        return cmd == "import-kfs" ? importKfs(input, output) : importCheng(input, output);
+    });
+}

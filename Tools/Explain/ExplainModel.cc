@@ -1,0 +1,372 @@
+#include "ExplainModel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "Core/Error.h"
+
+namespace pdpm::explain {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+const char* const kCompNames[kNumComp] = {"baseline",   "instrument_compliance", "sensor_drift",
+                                          "contact_relaxation", "plasticity", "cohesion",
+                                          "wall_friction", "rate_dependence", "stiffness_nonlinearity",
+                                          "rolling_resistance"};
+} // namespace
+
+const char* compName(int c) { return (c >= 0 && c < kNumComp) ? kCompNames[c] : "?"; }
+int compFromName(const std::string& name) {
+    for (int c = 0; c < kNumComp; ++c)
+        if (name == kCompNames[c]) return c;
+    return -1;
+}
+bool isNuisance(int c) { return c == kCompliance || c == kDrift; }
+bool isMechanism(int c) { return c >= kRelaxation && c < kNumComp; }
+
+ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
+    ModelInput in;
+    in.t = rec.t;
+    in.eps = rec.strain;
+    const std::size_t n = rec.size();
+    in.rate = smoothedRate(rec.t, rec.strain, std::max(1, int(n / 800)));
+    in.hold.assign(n, 0);
+    for (const auto& s : detectPhases(rec.t, rec.strain))
+        if (s.phase == Phase::Hold)
+            for (std::size_t i = s.begin; i < s.end; ++i) in.hold[i] = 1;
+    in.height = proto.height;
+    in.diameter = proto.diameter;
+    const auto [lo, hi] = std::minmax_element(rec.strain.begin(), rec.strain.end());
+    in.epsMin = *lo;
+    in.epsRange = std::max(*hi - *lo, 1e-12);
+    double smax = 0;
+    for (double s : rec.stress) smax = std::max(smax, std::abs(s));
+    in.stressMax = std::max(smax, 1e-12);
+    in.duration = std::max(rec.t.back() - rec.t.front(), 1e-12);
+    return in;
+}
+
+Model::Model(const ModelInput& in) : in_(in) {
+    const double E0 = in.stressMax / in.epsRange;
+    double rmax = 0;
+    for (double r : in.rate) rmax = std::max(rmax, std::abs(r));
+    const double tauScale = rmax > 0 ? 0.02 / rmax : 1.0;  // gives 2 % of E*range at the top rate
+    defs_ = {
+        {"E", "Pa", kBaseline, E0 * 1e-3, E0 * 1e3, kNaN, 0, true},
+        {"eps0", "-", kBaseline, in.epsMin - in.epsRange, in.epsMin + 0.95 * in.epsRange, kNaN, 0.05 * in.epsRange, false},
+        {"compliance_ratio", "-", kCompliance, 0, 0.3, 0, 0.05, false},
+        {"offset", "Pa", kDrift, -in.stressMax, in.stressMax, 0, 0.01 * in.stressMax, false},
+        {"drift_rate", "Pa/s", kDrift, -in.stressMax / in.duration, in.stressMax / in.duration, 0,
+         0.01 * in.stressMax / in.duration, false},
+        {"C", "-", kRelaxation, 0, 0.5, 0, 0.02, false},
+        {"t0", "s", kRelaxation, 1e-4, 1e3, kNaN, 0, true},
+        {"unload_stiffness_ratio", "-", kPlasticity, 1, 200, 1, 0, true},
+        {"tension", "Pa", kCohesion, 0, in.stressMax, 0, 0.01 * in.stressMax, false},
+        {"muK", "-", kWallFriction, 0, 1.5, 0, 0.05, false},
+        {"tau_v", "s", kRate, 0, 1e3 * tauScale, 0, tauScale, false},
+        {"n", "-", kNonlinearity, 0.2, 4, 1, 0.1, false},
+    };
+}
+
+std::vector<double> Model::defaults() const {
+    std::vector<double> p(kNumPar);
+    for (int k = 0; k < kNumPar; ++k) p[k] = std::isnan(defs_[k].off) ? 0 : defs_[k].off;
+    p[pE] = in_.stressMax / in_.epsRange;
+    p[pEps0] = in_.epsMin;
+    p[pRelaxT0] = 1.0;
+    return p;
+}
+
+std::vector<int> Model::paramsOf(int c) const {
+    std::vector<int> out;
+    for (int k = 0; k < kNumPar; ++k)
+        if (defs_[k].comp == c) out.push_back(k);
+    return out;
+}
+
+void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, std::vector<double>& out) const {
+    const std::size_t n = in_.t.size();
+    out.assign(n, 0.0);
+    const double E = p[pE], e0 = p[pEps0], er = in_.epsRange;
+    const double nExp = on[kNonlinearity] ? p[pExpN] : 1.0;
+    const double lam = on[kPlasticity] ? p[pLambda] : 1.0;
+    const double floorS = on[kCohesion] ? -p[pTension] : 0.0;
+    const double kap = on[kCompliance] ? p[pKappa] : 0.0;
+    const double C = on[kRelaxation] ? p[pRelaxC] : 0.0;
+    const double t0 = p[pRelaxT0];
+    const double tauV = on[kRate] ? p[pTauV] : 0.0;
+    const double muK = on[kWallFriction] ? p[pMuK] : 0.0;
+    const double a = on[kDrift] ? p[pOffset] : 0.0, b = on[kDrift] ? p[pDrift] : 0.0;
+    const bool linear = nExp == 1.0;
+    auto virgin = [&](double e) {
+        const double x = e - e0;
+        if (x <= 0) return on[kCohesion] ? E * x : 0.0;
+        return linear ? E * x : E * er * std::pow(x / er, nExp);
+    };
+    auto tangent = [&](double e) {
+        const double x = std::max(e - e0, 1e-9 * er);
+        return linear ? E : E * nExp * std::pow(x / er, nExp - 1);
+    };
+    const int passes = kap > 0 ? 4 : 1;
+    std::vector<double> inner(n, 0.0);
+    const double mobil = 0.02 * er;
+    for (int pass = 0; pass < passes; ++pass) {
+        double emax = -std::numeric_limits<double>::infinity(), sAtMax = 0;
+        double Dcur = 0, Dprev = 0, Dend = 0, eEnd = 0, selEnd = 0, th = 0, sh = 0;
+        bool inHold = false;
+        double m = 1.0, ePrev = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double e = in_.eps[i] - (kap > 0 ? kap / E * inner[i] : 0.0);
+            const double x = virgin(e);
+            double sel;
+            if (e >= emax) {
+                emax = e;
+                sAtMax = x;
+                sel = x;
+            } else {
+                sel = lam * x - (lam - 1) * sAtMax;
+            }
+            sel = std::max(sel, floorS);
+            if (C > 0) {
+                if (in_.hold[i]) {
+                    if (!inHold) {
+                        inHold = true;
+                        th = in_.t[i];
+                        Dprev = Dcur;
+                        sh = std::max(sel - Dcur, 0.0);
+                    }
+                    Dcur = Dprev + sh * (1 - std::pow(1 + (in_.t[i] - th) / t0, -C));
+                } else {
+                    if (inHold) {
+                        inHold = false;
+                        Dend = Dcur;
+                        eEnd = e;
+                        selEnd = sel;
+                    }
+                    if (Dend > 0) {
+                        if (e >= eEnd) {
+                            const double erec = std::max(Dend / tangent(eEnd), 1e-12 * er);
+                            Dcur = Dend * std::exp(-(e - eEnd) / erec);
+                        } else {
+                            Dcur = selEnd > 0 ? Dend * std::max(sel, 0.0) / selEnd : 0.0;
+                        }
+                    }
+                }
+            }
+            double s = sel - Dcur + (tauV > 0 ? E * tauV * in_.rate[i] : 0.0);
+            if (muK > 0) {
+                if (i > 0) m = std::clamp(m + 2 * (e - ePrev) / mobil, -1.0, 1.0);
+                const double u = m * 4 * muK * in_.height * (1 - e) / in_.diameter;
+                const double g = std::abs(u) < 1e-8 ? 1 + 0.5 * u : u / (1 - std::exp(-u));
+                s *= g;
+            }
+            ePrev = e;
+            inner[i] = s;
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i) out[i] = inner[i] + a + b * (in_.t[i] - in_.t[0]);
+}
+
+// ---- fitting --------------------------------------------------------------------------------
+
+namespace {
+
+double toInternal(const ParDef& d, double v) { return d.logScale ? std::log10(v) : v / d.scale; }
+double toPhysical(const ParDef& d, double u) { return d.logScale ? std::pow(10.0, u) : u * d.scale; }
+double lowerInternal(const ParDef& d) { return toInternal(d, d.lo); }
+double upperInternal(const ParDef& d) { return toInternal(d, d.hi); }
+
+} // namespace
+
+FitResult fitModel(const Model& model, const std::vector<double>& y, const std::vector<char>& on,
+                   const std::vector<double>& p0, const FitOptions& opt) {
+    const auto& defs = model.defs();
+    const std::size_t n = y.size();
+    const std::vector<int>& fr = opt.freeParams;
+    const int k = int(fr.size());
+    std::vector<double> w = opt.weights.empty() ? std::vector<double>(n, 1.0) : opt.weights;
+    FitResult res;
+    res.p = p0;
+    for (int j : fr) res.p[j] = std::clamp(res.p[j], defs[j].lo, defs[j].hi);
+    std::vector<double> mvals;
+    auto costOf = [&](const std::vector<double>& p, std::vector<double>& mv) {
+        model.evaluate(p, on, mv);
+        double c = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double r = w[i] * (y[i] - mv[i]);
+            c += r * r;
+        }
+        return std::isfinite(c) ? c : std::numeric_limits<double>::infinity();
+    };
+    double cost = costOf(res.p, mvals);
+    Eigen::VectorXd u(k), lo(k), hi(k);
+    for (int a = 0; a < k; ++a) {
+        u[a] = toInternal(defs[fr[a]], res.p[fr[a]]);
+        lo[a] = lowerInternal(defs[fr[a]]);
+        hi[a] = upperInternal(defs[fr[a]]);
+    }
+    Eigen::MatrixXd J(n, std::max(k, 1));
+    std::vector<double> mp;
+    auto jacobian = [&](const std::vector<double>& p, const std::vector<double>& m0) {
+        for (int a = 0; a < k; ++a) {
+            std::vector<double> q = p;
+            double h = 1e-6 * std::max(1.0, std::abs(u[a]));
+            if (u[a] + h > hi[a]) h = -h;
+            q[fr[a]] = toPhysical(defs[fr[a]], u[a] + h);
+            model.evaluate(q, on, mp);
+            for (std::size_t i = 0; i < n; ++i) J(long(i), a) = w[i] * (mp[i] - m0[i]) / h;
+        }
+    };
+    double lambda = 1e-3;
+    int stall = 0;
+    int it = 0;
+    if (k > 0) {
+        for (; it < opt.maxIterations; ++it) {
+            jacobian(res.p, mvals);
+            Eigen::VectorXd r(n);
+            for (std::size_t i = 0; i < n; ++i) r[long(i)] = w[i] * (y[i] - mvals[i]);
+            const Eigen::MatrixXd A = J.leftCols(k).transpose() * J.leftCols(k);
+            const Eigen::VectorXd g = J.leftCols(k).transpose() * r;  // descent direction for +du
+            bool accepted = false;
+            for (int tries = 0; tries < 12 && !accepted; ++tries) {
+                Eigen::MatrixXd M = A;
+                for (int a = 0; a < k; ++a) M(a, a) += lambda * std::max(A(a, a), 1e-12) + 1e-14;
+                const Eigen::VectorXd du = M.ldlt().solve(g);
+                Eigen::VectorXd un = u + du;
+                for (int a = 0; a < k; ++a) un[a] = std::clamp(un[a], lo[a], hi[a]);
+                std::vector<double> q = res.p;
+                for (int a = 0; a < k; ++a) q[fr[a]] = toPhysical(defs[fr[a]], un[a]);
+                std::vector<double> mq;
+                const double cq = costOf(q, mq);
+                if (cq < cost) {
+                    const double rel = (cost - cq) / std::max(cost, 1e-300);
+                    u = un;
+                    res.p = q;
+                    mvals.swap(mq);
+                    cost = cq;
+                    lambda = std::max(lambda / 4, 1e-9);
+                    accepted = true;
+                    stall = rel < 1e-10 ? stall + 1 : 0;
+                } else {
+                    lambda *= 8;
+                }
+            }
+            if (!accepted || stall >= 2) break;
+        }
+    }
+    res.iterations = it;
+    res.rss = cost;
+    res.model = mvals;
+    res.se.assign(kNumPar, 0.0);
+    if (k > 0) {
+        jacobian(res.p, mvals);
+        double nw = 0;
+        for (double x : w) nw += x > 0 ? 1 : 0;
+        const double s2 = cost / std::max(1.0, nw - k) * opt.covInflation;
+        const Eigen::MatrixXd A = J.leftCols(k).transpose() * J.leftCols(k);
+        const Eigen::MatrixXd cov = A.completeOrthogonalDecomposition().pseudoInverse() * s2;
+        for (int a = 0; a < k; ++a) {
+            const double sdu = std::sqrt(std::max(cov(a, a), 0.0));
+            const ParDef& d = defs[fr[a]];
+            res.se[fr[a]] = d.logScale ? res.p[fr[a]] * std::log(10.0) * sdu : sdu * d.scale;
+        }
+    }
+    return res;
+}
+
+// ---- noise ----------------------------------------------------------------------------------
+
+namespace {
+/// Robust variance of zero-mean differences: mean square after trimming the largest 2 % of |d|,
+/// corrected for the trimming (Gaussian), so that quantised data are not biased as a MAD would be.
+double trimmedVariance(std::vector<double> d) {
+    if (d.empty()) return 0;
+    for (double& x : d) x = x * x;
+    std::sort(d.begin(), d.end());
+    const std::size_t keep = std::max<std::size_t>(1, std::size_t(0.98 * double(d.size())));
+    double s = 0;
+    for (std::size_t i = 0; i < keep; ++i) s += d[i];
+    return s / double(keep) / 0.87327;
+}
+} // namespace
+
+NoiseModel estimateNoise(const std::vector<double>& r) {
+    NoiseModel nm;
+    nm.n = r.size();
+    const int K = 10;
+    std::vector<double> v;
+    for (int k = 1; k <= K && std::size_t(k) + 4 < r.size(); ++k) {
+        std::vector<double> d;
+        for (std::size_t i = std::size_t(k); i < r.size(); ++i) d.push_back(r[i] - r[i - std::size_t(k)]);
+        v.push_back(std::max(trimmedVariance(d), 1e-300));
+    }
+    // v_k = 2 s2 (1 - rho^k) + 2 w: AR(1) part (s2, rho) plus white part w (quantisation, electronics)
+    double best = std::numeric_limits<double>::infinity(), bestRho = 0, bestA = v.empty() ? 0 : v[0], bestB = 0;
+    for (int g = 0; g <= 196; ++g) {
+        const double rho = g * 0.005;
+        double saa = 0, sab = 0, sbb = 0, say = 0, sby = 0;
+        std::vector<double> gk(v.size());
+        for (std::size_t k = 0; k < v.size(); ++k) {
+            gk[k] = 1 - std::pow(rho, double(k + 1));
+            const double wt = 1 / (v[k] * v[k]);
+            saa += wt * gk[k] * gk[k]; sab += wt * gk[k]; sbb += wt;
+            say += wt * gk[k] * v[k]; sby += wt * v[k];
+        }
+        double A, B;
+        const double det = saa * sbb - sab * sab;
+        A = det > 0 ? (say * sbb - sby * sab) / det : say / saa;
+        B = det > 0 ? (saa * sby - sab * say) / det : 0;
+        if (B < 0) { B = 0; A = say / saa; }
+        if (A < 0) { A = 0; B = sby / sbb; }
+        double err = 0;
+        for (std::size_t k = 0; k < v.size(); ++k) {
+            const double d = (v[k] - A * gk[k] - B) / v[k];
+            err += d * d;
+        }
+        if (err < best - 1e-15) {
+            best = err;
+            bestRho = rho;
+            bestA = A;
+            bestB = B;
+        }
+    }
+    const double s2 = bestA / 2, w = bestB / 2;
+    nm.sigma = std::sqrt(std::max(s2 + w, 1e-300));
+    nm.rho = bestRho;
+    nm.arVar = s2;
+    nm.whiteVar = w;
+    const double lowFreq = s2 * (1 + nm.rho) / (1 - nm.rho) + w;  // spectral density at zero frequency
+    nm.nEff = std::max(2.0, double(nm.n) * (s2 + w) / std::max(lowFreq, 1e-300));
+    return nm;
+}
+
+double normalUpperTail(double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); }
+
+double blockChiSquarePValue(const std::vector<double>& r, const NoiseModel& nm, int dofRemoved, double* stat,
+                            int* blocksOut) {
+    const std::size_t n = r.size();
+    const double rho = nm.rho;
+    const double corr = double(n) / nm.nEff;
+    std::size_t L = std::max<std::size_t>({20, std::size_t(std::ceil(10 * corr)), n / 100});
+    L = std::min(L, std::max<std::size_t>(1, n / 5));
+    const std::size_t B = n / L;
+    const double Ld = double(L);
+    const double varMean = nm.arVar / Ld * ((1 + rho) / (1 - rho) - 2 * rho * (1 - std::pow(rho, Ld)) / (Ld * (1 - rho) * (1 - rho))) +
+                           nm.whiteVar / Ld;
+    double T = 0;
+    for (std::size_t b = 0; b < B; ++b) {
+        double s = 0;
+        for (std::size_t i = b * L; i < (b + 1) * L; ++i) s += r[i];
+        const double m = s / Ld;
+        T += m * m / std::max(varMean, 1e-300);
+    }
+    const double k = std::max(1.0, double(B) - dofRemoved);
+    if (stat) *stat = T;
+    if (blocksOut) *blocksOut = int(B);
+    // Wilson-Hilferty: (T/k)^(1/3) ~ N(1 - 2/(9k), 2/(9k))
+    const double z = (std::cbrt(T / k) - (1 - 2 / (9 * k))) / std::sqrt(2 / (9 * k));
+    return normalUpperTail(z);
+}
+
+} // namespace pdpm::explain

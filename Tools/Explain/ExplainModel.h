@@ -1,0 +1,134 @@
+// pdpm-explain: the macroscopic oedometric surrogate (baseline + nuisances + mechanism terms), a
+// bounded Levenberg-Marquardt fitter, and the noise model.
+//
+// The model maps the recorded strain history eps(t) (the control channel, compression positive) to
+// the axial stress at the piston. Every mechanism is a term that is exactly "off" at one value of
+// its parameter, so a model with the mechanism nests the baseline.
+//
+//   baseline        virgin loading  s_v(e) = E * e_r * ((e - e0)_+ / e_r)^n, n = 1 (linear elastic);
+//                   unloading / reloading below the largest strain so far along the same curve
+//   stiffness_nonlinearity   n != 1 (power law; off: n = 1)
+//   plasticity      unloading branch  s = lam * s_v(e) - (lam - 1) * s_v(e_max)  (off: lam = 1),
+//                   i.e. lam times stiffer than loading, leaving a strain at zero stress
+//   cohesion        the unloading branch continues into tension down to -sigma_c (off: 0)
+//   contact_relaxation  during each hold (constant strain) the stress decays as thesis Eq. 4.3,
+//                   s = s_h (1 + (t - t_h)/t0)^(-C) (off: C = 0); after the hold the deficit is
+//                   recovered over the strain the loading curve needs to make it up
+//   rate_dependence viscous stress E * tau_v * d(eps)/dt (off: tau_v = 0)
+//   wall_friction   Janssen factor: piston stress = inner stress * u/(1 - exp(-u)),
+//                   u = m * 4 muK H(eps)/D, m = +1 loading, -1 unloading (mobilised over 2 % of the
+//                   strain range); off: muK = 0
+//   rolling_resistance  acts on the lateral stress / q-p ratio only: not testable on axial stress
+//   instrument_compliance (nuisance)  eps_true = eps_meas - kappa/E * stress (off: kappa = 0)
+//   sensor_drift (nuisance)           stress + a + b (t - t_0) (off: a = b = 0)
+#pragma once
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "ExplainData.h"
+
+namespace pdpm::explain {
+
+enum Comp : int {
+    kBaseline = 0,
+    kCompliance,
+    kDrift,
+    kRelaxation,
+    kPlasticity,
+    kCohesion,
+    kWallFriction,
+    kRate,
+    kNonlinearity,
+    kRolling,
+    kNumComp
+};
+
+/// Public names: "contact_relaxation", "instrument_compliance", ...
+const char* compName(int c);
+int compFromName(const std::string& name);  ///< -1 if unknown
+bool isNuisance(int c);
+bool isMechanism(int c);
+
+enum Par : int {
+    pE = 0, pEps0, pKappa, pOffset, pDrift, pRelaxC, pRelaxT0, pLambda, pTension, pMuK, pTauV, pExpN, kNumPar
+};
+
+struct ParDef {
+    const char* name;
+    const char* unit;
+    int comp;
+    double lo, hi;
+    double off;     ///< value at which the term vanishes (NaN: none, e.g. t0)
+    double scale;   ///< typical size (internal coordinate = value/scale), ignored for log params
+    bool logScale;
+};
+
+/// Everything the model needs about one recording, precomputed once.
+struct ModelInput {
+    std::vector<double> t, eps, rate;
+    std::vector<char> hold;   ///< 1 where the control channel holds
+    double height = 0.06, diameter = 0.149;
+    double epsRange = 1, epsMin = 0, stressMax = 1, duration = 1;
+};
+
+ModelInput makeModelInput(const Recording& rec, const Protocol& proto);
+
+class Model {
+public:
+    explicit Model(const ModelInput& in);
+    const ModelInput& input() const { return in_; }
+    const std::vector<ParDef>& defs() const { return defs_; }
+    /// A parameter vector with every term off and a rough baseline guess.
+    std::vector<double> defaults() const;
+    /// Stress at every sample, with the components flagged in `on` (on[kBaseline] is implied).
+    void evaluate(const std::vector<double>& p, const std::vector<char>& on, std::vector<double>& out) const;
+    /// Parameter indices that belong to component c.
+    std::vector<int> paramsOf(int c) const;
+
+private:
+    ModelInput in_;
+    std::vector<ParDef> defs_;
+};
+
+struct FitResult {
+    std::vector<double> p;
+    double rss = 0;            ///< weighted residual sum of squares
+    std::vector<double> model; ///< prediction at every sample
+    std::vector<double> se;    ///< standard errors (physical units; 0 for fixed parameters)
+    int iterations = 0;
+};
+
+struct FitOptions {
+    std::vector<int> freeParams;
+    std::vector<double> weights;  ///< 0/1 mask (empty: all 1)
+    double covInflation = 1.0;    ///< n / n_eff, multiplies the covariance
+    int maxIterations = 80;
+};
+
+/// Bounded Levenberg-Marquardt from start `p0`.
+FitResult fitModel(const Model& m, const std::vector<double>& y, const std::vector<char>& on,
+                   const std::vector<double>& p0, const FitOptions& opt);
+
+/// Noise model from a residual: marginal sd, lag-1 autocorrelation (AR(1)) and the effective
+/// sample size. Estimated from robust (trimmed) variances of lag-k differences,
+/// v_k = 2 s2 (1 - rho^k) + 2 w, k = 1..10 (AR(1) part s2, rho plus a white part w such as
+/// quantisation), so smooth misfit does not count as noise. n_eff = n (s2 + w) / (s2 (1+rho)/(1-rho) + w),
+/// i.e. n(1-rho)/(1+rho) for pure AR(1).
+struct NoiseModel {
+    double sigma = 0, rho = 0, nEff = 0;  ///< total sd, lag-1 coefficient of the AR(1) part, n_eff
+    double arVar = 0, whiteVar = 0;       ///< variance of the AR(1) part and of the white part
+    std::size_t n = 0;
+};
+NoiseModel estimateNoise(const std::vector<double>& resid);
+
+/// Block chi-square test of "the residual is zero-mean AR(1) noise": block means over blocks much
+/// longer than the correlation time, each divided by its exact AR(1) standard deviation. Returns
+/// the upper-tail p-value (Wilson-Hilferty), with `dofRemoved` fitted parameters.
+double blockChiSquarePValue(const std::vector<double>& resid, const NoiseModel& nm, int dofRemoved,
+                            double* statistic = nullptr, int* blocks = nullptr);
+
+/// Upper tail of the standard normal.
+double normalUpperTail(double z);
+
+} // namespace pdpm::explain

@@ -1,0 +1,222 @@
+// pdpm-fit: fits of thesis chapter 2 on RUN.macro.csv files (Documentation/tools-fitting.md).
+//
+//   pdpm-fit cstar|rattlers|pressure|sdev|fdev FILE [--branch B] [--vc X] [--c0 C0]
+//   pdpm-fit table FILE... [--branch B]                 Table 2.2-style table, one row per file
+//   pdpm-fit model --uni FILE D2FILE... [--vc X]        Sec. 2.7: calibrate on D2/D3 runs, predict UNI
+//   pdpm-fit plot --out DIR FILE...                     PNG figures through gnuplot (test rows, tau >= 0)
+// B: auto (default: unloading if the run has it, else the whole test), loading, unloading, test.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "Core/Error.h"
+#include "Core/Parameters.h"
+#include "Core/RunMain.h"
+#include "Fitting.h"
+#include "IO/AtomicFile.h"
+
+using namespace pdpm;
+
+namespace {
+struct Args {
+    std::string command, branch = "auto", out = ".", uni;
+    double vc = 0.6653, c0 = 6;
+    bool vcGiven = false;
+    std::vector<std::string> files;
+};
+
+Args parse(int argc, char** argv) {
+    Args a;
+    if (argc < 2) inputError("usage: pdpm-fit cstar|rattlers|pressure|sdev|fdev|table|model|plot FILE... (see --help)");
+    a.command = argv[1];
+    for (int i = 2; i < argc; ++i) {
+        const std::string s = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) inputError(s + ": missing value");
+            return argv[++i];
+        };
+        auto number = [&](double& x) {
+            const std::string v = value();
+            if (!parseStrictDouble(v, x)) inputError(s + ": '" + v + "' is not a number");
+        };
+        if (s == "--branch") {
+            a.branch = value();
+            if (a.branch != "auto" && a.branch != "loading" && a.branch != "unloading" && a.branch != "test")
+                inputError("--branch: '" + a.branch + "' is not one of auto, loading, unloading, test");
+        } else if (s == "--vc") {
+            number(a.vc);
+            a.vcGiven = true;
+            if (!(a.vc > 0 && a.vc < 1)) inputError("--vc: must be in (0, 1)");
+        } else if (s == "--c0") number(a.c0);
+        else if (s == "--out") a.out = value();
+        else if (s == "--uni") a.uni = value();
+        else if (s.rfind("--", 0) == 0) inputError("unknown option " + s);
+        else a.files.push_back(s);
+    }
+    if (a.files.empty()) inputError(a.command + ": no input file");
+    return a;
+}
+
+BranchSelect branchOf(const std::string& b) {
+    if (b == "loading") return BranchSelect::Loading;
+    if (b == "unloading") return BranchSelect::Unloading;
+    if (b == "test") return BranchSelect::Test;
+    return BranchSelect::Auto;
+}
+
+void print(const std::string& title, const FitResult& r) {
+    std::printf("%s  (%d points, rms %.4g%s)\n", title.c_str(), r.points, r.rms, r.converged ? "" : ", NOT converged");
+    for (std::size_t k = 0; k < r.names.size(); ++k)
+        std::printf("  %-8s = %-12.6g %s\n", r.names[k].c_str(), r.value[k],
+                    r.fixed[k] ? "(fixed)" : ("+- " + std::to_string(r.stderror[k])).c_str());
+}
+
+struct Jammed {
+    std::vector<double> v, cstar, phi, cm, p, eps, sdev, fdev;
+};
+Jammed jammedRows(const CsvTable& t, BranchSelect b) {
+    const auto rows = selectRows(t, b, 1e-6);  // above jamming: some pressure
+    if (rows.size() < 5) inputError(t.source + ": fewer than 5 jammed rows on the selected branch");
+    Jammed j;
+    j.v = column(t, rows, "volume_fraction");
+    j.cstar = column(t, rows, "C_star");
+    j.phi = column(t, rows, "phi_r");
+    j.cm = column(t, rows, "C_m");
+    j.p = column(t, rows, "p_nd");
+    j.eps = column(t, rows, "eps_dev");
+    j.sdev = column(t, rows, "s_dev");
+    j.fdev = column(t, rows, "F_dev");
+    return j;
+}
+
+std::string gnuplotQuote(const std::string& s) { return "'" + s + "'"; }
+
+int plot(const Args& a) {
+    ensureDirectory(a.out);
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 800,600 noenhanced\nset datafile separator ','\nset key autotitle columnhead\n"
+       << "set grid\n";
+    auto series = [&](const std::string& x, const std::string& y) {
+        std::string s;
+        for (std::size_t k = 0; k < a.files.size(); ++k) {
+            s += (k ? ", " : "") + gnuplotQuote(a.files[k]) + " using (column('tau') >= 0 ? column('" + x + "') : 1/0):'" + y +
+                 "' with lines title " +
+                 gnuplotQuote(std::filesystem::path(a.files[k]).stem().stem().string());
+        }
+        return s;
+    };
+    const std::string dir = a.out + "/";
+    gp << "set output " << gnuplotQuote(dir + "p_vs_v.png") << "\nset xlabel 'volume fraction v'\nset ylabel 'p (Eq. 2.7)'\n"
+       << "plot " << series("volume_fraction", "p_nd") << "\n";
+    // C* with the fit of the first file
+    std::string fitCurve;
+    try {
+        const CsvTable t = readCsv(a.files.front());
+        const Jammed j = jammedRows(t, branchOf(a.branch));
+        const FitResult f = fitCstar(j.v, j.cstar, a.c0);
+        char buf[256];
+        std::snprintf(buf, sizeof buf, ", (x > %.6g ? %.6g + %.6g*(x/%.6g-1)**%.6g : 1/0) with lines lw 2 title 'Eq. 2.11 fit'",
+                      f.get("v_c"), f.get("C0"), f.get("C1"), f.get("v_c"), f.get("alpha"));
+        fitCurve = buf;
+    } catch (const InputError&) {
+    }
+    gp << "set output " << gnuplotQuote(dir + "cstar_vs_v.png") << "\nset ylabel 'C* (Sec. 2.4.1)'\nset yrange [0:*]\n"
+       << "plot " << series("volume_fraction", "C_star") << fitCurve << "\nset yrange [*:*]\n";
+    gp << "set output " << gnuplotQuote(dir + "sdev_vs_epsdev.png") << "\nset xlabel 'deviatoric strain eps_dev'\n"
+       << "set ylabel 's_dev = sigma_dev / p'\nplot " << series("eps_dev", "s_dev") << "\n";
+    gp << "set output " << gnuplotQuote(dir + "fdev_vs_epsdev.png") << "\nset ylabel 'F_dev (Eq. 2.10)'\nplot "
+       << series("eps_dev", "F_dev") << "\n";
+    const std::string script = dir + "plots.gp";
+    writeWholeFile(script, gp.str());
+    const std::string cmd = "gnuplot " + script;
+    if (std::system(cmd.c_str()) != 0) inputError("gnuplot failed (is gnuplot installed?); script: " + script);
+    std::printf("plots written to %s (p_vs_v.png, cstar_vs_v.png, sdev_vs_epsdev.png, fdev_vs_epsdev.png)\n",
+                a.out.c_str());
+    return 0;
+}
+} // namespace
+
+int main(int argc, char** argv) {
+    return runMain("pdpm-fit", [&]() -> int {
+        if (argc >= 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+            std::cout << "pdpm-fit: fits of thesis chapter 2 on RUN.macro.csv files\n"
+                         "  pdpm-fit cstar|rattlers|pressure|sdev|fdev FILE [--branch B] [--vc X] [--c0 C0]\n"
+                         "  pdpm-fit table FILE... [--branch B]\n"
+                         "  pdpm-fit model --uni FILE D2FILE... [--vc X]\n"
+                         "  pdpm-fit plot --out DIR FILE...\n"
+                         "B: auto (default), loading, unloading, test.\n";
+            return 0;
+        }
+        const Args a = parse(argc, argv);
+        const BranchSelect b = branchOf(a.branch);
+        if (a.command == "plot") return plot(a);
+        if (a.command == "table") {
+            std::printf("%-28s %8s %8s %8s %8s %8s %8s %9s %8s %8s\n", "run", "C1", "alpha", "v_c", "phi_c", "phi_v",
+                        "p0", "gamma_p", "v_c(p)", "C*max");
+            for (const auto& f : a.files) {
+                const CsvTable t = readCsv(f);
+                const Jammed j = jammedRows(t, b);
+                const FitResult c = fitCstar(j.v, j.cstar, a.c0);
+                const FitResult r = fitRattlers(j.v, j.phi, c.get("v_c"));
+                const FitResult p = fitPressure(j.v, j.cm, j.p);
+                double cmax = 0;
+                for (double x : j.cstar) cmax = std::max(cmax, x);
+                std::printf("%-28s %8.4f %8.4f %8.4f %8.4f %8.3f %8.5f %9.5f %8.4f %8.3f\n",
+                            std::filesystem::path(f).filename().string().c_str(), c.get("C1"), c.get("alpha"),
+                            c.get("v_c"), r.get("phi_c"), r.get("phi_v"), p.get("p0"), p.get("gamma_p"), p.get("v_c"), cmax);
+            }
+            return 0;
+        }
+        if (a.command == "model") {
+            if (a.uni.empty()) inputError("model: --uni FILE (the uniaxial run to predict) is required");
+            std::vector<CsvTable> runs;
+            for (const auto& f : a.files) runs.push_back(readCsv(f));
+            std::vector<std::pair<double, std::pair<FitResult, FitResult>>> per;
+            const AnisotropyModel m = calibrateAnisotropy(runs, a.vc, &per);
+            std::printf("per run (Eq. 2.17 / 2.18):\n%8s %10s %10s %10s %10s\n", "v", "s_max", "beta_s", "F_max", "beta_F");
+            for (const auto& [v, fits] : per)
+                std::printf("%8.4f %10.5f %10.4f %10.5f %10.4f\n", v, fits.first.get("q_max"), fits.first.get("beta"),
+                            fits.second.get("q_max"), fits.second.get("beta"));
+            std::printf("Eq. 2.20, v_c = %.4f (Table 2.3 style):\n%-10s %10s %10s %10s\n", a.vc, "parameter", "Q_max", "Q_c",
+                        "alpha");
+            auto row = [](const char* n, const FitResult& r) {
+                std::printf("%-10s %10.5g %10.5g %10.5g\n", n, r.value[0], r.value[0] + r.value[1], r.value[2]);
+            };
+            row("s_dev_max", m.sMax);
+            row("beta_s", m.betaS);
+            row("F_dev_max", m.fMax);
+            row("beta_F", m.betaF);
+            const CsvTable u = readCsv(a.uni);
+            const auto rows = selectRows(u, BranchSelect::Loading);
+            if (rows.size() < 3) inputError(a.uni + ": fewer than 3 loading rows");
+            const auto v = column(u, rows, "volume_fraction"), e = column(u, rows, "eps_dev");
+            const auto s = column(u, rows, "s_dev"), f = column(u, rows, "F_dev");
+            const auto ps = m.predictS(v, e, s.front()), pf = m.predictF(v, e, f.front());
+            double es = 0, ef = 0, ns = 0, nf = 0;
+            for (std::size_t i = 0; i < s.size(); ++i) {
+                es += (ps[i] - s[i]) * (ps[i] - s[i]);
+                ef += (pf[i] - f[i]) * (pf[i] - f[i]);
+                ns += s[i] * s[i];
+                nf += f[i] * f[i];
+            }
+            std::printf("prediction of %s (loading, %zu rows): relative rms error s_dev %.3f, F_dev %.3f\n", a.uni.c_str(),
+                        s.size(), std::sqrt(es / ns), std::sqrt(ef / nf));
+            return 0;
+        }
+        if (a.files.size() != 1) inputError(a.command + ": exactly one input file");
+        const CsvTable t = readCsv(a.files.front());
+        const Jammed j = jammedRows(t, b);
+        if (a.command == "cstar") print("Eq. 2.11 C*(v)", fitCstar(j.v, j.cstar, a.c0));
+        else if (a.command == "rattlers") {
+            const double vc = a.vcGiven ? a.vc : fitCstar(j.v, j.cstar, a.c0).get("v_c");
+            print("Eq. 2.12 phi_r(v), v_c = " + std::to_string(vc), fitRattlers(j.v, j.phi, vc));
+        } else if (a.command == "pressure") print("Eq. 2.14 p(v)", fitPressure(j.v, j.cm, j.p));
+        else if (a.command == "sdev") print("Eq. 2.17 s_dev(eps_dev)", fitSaturation(j.eps, j.sdev));
+        else if (a.command == "fdev") print("Eq. 2.18 F_dev(eps_dev)", fitSaturation(j.eps, j.fdev));
+        else inputError("unknown command '" + a.command + "'");
+        return 0;
+    });
+}

@@ -1,0 +1,347 @@
+#include "ElementTest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "Core/Error.h"
+#include "IO/NumberFormat.h"
+#include "Particles/Insertion.h"
+
+namespace pdpm {
+
+// ---- start configurations ------------------------------------------------------------------------
+StartConfiguration readStartConfiguration(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) inputError("--start: cannot open " + path);
+    std::string line;
+    if (!std::getline(in, line) || line.rfind("PowderDPM-restart", 0) != 0)
+        inputError("--start: " + path + " is not a PowderDPM restart file");
+    StartConfiguration c;
+    bool haveBox = false, haveParticles = false;
+    while (std::getline(in, line)) {
+        if (line.rfind("parameters ", 0) == 0) {  // skip the parameter section (names may clash with tags)
+            long np = -1;
+            if (!parseStrictLong(line.substr(11), np) || np < 0) inputError("--start: malformed parameters in " + path);
+            for (long k = 0; k < np && std::getline(in, line); ++k) {
+            }
+        } else if (line.rfind("box ", 0) == 0 && !haveBox) {
+            std::istringstream is(line.substr(4));
+            c.lo = readVec3(is);
+            c.hi = readVec3(is);
+            if (!is) inputError("--start: malformed box line in " + path);
+            haveBox = true;
+        } else if (line.rfind("particles ", 0) == 0) {
+            long n = -1;
+            if (!parseStrictLong(line.substr(10), n) || n <= 0) inputError("--start: malformed particle count in " + path);
+            for (long i = 0; i < n; ++i) {
+                if (!std::getline(in, line)) inputError("--start: " + path + " is truncated");
+                std::istringstream is(line);
+                const Vec3 x = readVec3(is), v = readVec3(is), w = readVec3(is);
+                readVec3(is);
+                readVec3(is);
+                const double r = readDouble(is);
+                if (!is || !(r > 0) || !isFinite(x)) inputError("--start: malformed particle record in " + path);
+                c.x.push_back(x);
+                c.v.push_back(v);
+                c.w.push_back(w);
+                c.r.push_back(r);
+            }
+            haveParticles = true;
+            break;
+        }
+    }
+    if (!haveBox || !haveParticles) inputError("--start: " + path + " has no box or no particles");
+    return c;
+}
+
+// ---- parameters ------------------------------------------------------------------------------------
+ElementTest::ElementTest(const std::string& name, const std::string& description) : DPMBase(name, description) {
+    auto& p = parameters();
+    p.add("particles", &n_, 1000L, "-", "number of particles N", Range::atLeast(10));
+    p.add("r_min", &rMin_, 0.5e-3, "m", "smallest radius (uniform distribution, Sec. 2.2.2)", Range::positive());
+    p.add("r_max", &rMax_, 1.5e-3, "m", "largest radius", Range::positive());
+    p.add("density", &density_, 2000.0, "kg/m^3", "particle density rho", Range::positive());
+    p.add("k", &k_, 1e5, "N/m", "normal spring stiffness k_n (Eq. 2.1)", Range::positive());
+    p.add("gamma", &gamma_, 0.0316, "kg/s", "normal contact damping gamma_n", Range::nonNegative());
+    p.add("kt", &kt_, 2e4, "N/m", "tangential spring stiffness k_t", Range::nonNegative());
+    p.add("gamma_t", &gammaT_, 0.00632, "kg/s", "tangential contact damping gamma_t", Range::nonNegative());
+    p.add("mu", &mu_, 0.5, "-", "sliding (= sticking) friction coefficient; 0: frictionless law", Range::nonNegative());
+    p.add("gamma_b", &gammaB_, 0.01, "kg/s", "translational background damping gamma_b", Range::nonNegative());
+    p.add("gamma_br", &gammaBr_, 1e-8, "kg m^2/s", "rotational background damping (torque -gamma_br w)",
+          Range::nonNegative());
+    p.add("v_gas", &vGas_, 0.3, "-", "volume fraction of the initial random gas (step i)", Range::open(0, 0.45));
+    p.add("gas_speed", &gasSpeed_, 0.5, "m/s", "largest random speed of the initial gas", Range::nonNegative());
+    p.add("v0", &v0_, 0.64, "-", "volume fraction after the isotropic preparation (step ii)", Range::open(0, 0.9));
+    p.add("prep_rate", &prepRate_, 20.0, "1/s", "true strain rate of the isotropic preparation", Range::positive());
+    p.add("relax", &relax_, 0.005, "s", "relaxation at constant volume after the preparation (step iii)",
+          Range::nonNegative());
+    p.add("v_i", &vi_, 0.64, "-", "start volume fraction of the test for self-prepared runs (>= v0)",
+          Range::open(0, 0.9));
+    p.add("start", &start_, "", "restart file of an element-test run to start from (empty: prepare)");
+    p.add("start_relax", &startRelax_, 0.002, "s", "relaxation after reading --start", Range::nonNegative());
+    p.add("v_max", &vMax_, 0.82, "-", "largest volume fraction of a loading cycle", Range::open(0, 0.95));
+    p.add("period", &period_, 0.04, "s", "period T of the cosine law (loading T/2, unloading T/2)", Range::positive());
+    p.add("save_fractions", &saveFractions_, "0.66,0.68,0.70,0.72,0.75,0.78,0.80",
+          "volume fractions v_i at which RUN.load_v.restart / RUN.unload_v.restart are written (comma separated)");
+    p.add("outputs", &outputsPerTest_, 200, "-", "outputs (macro rows) over the test stages (unless --save_every)",
+          Range::atLeast(1));
+    p.addPreset("default", "fast: N = 1000, w = 3, soft k = 1e5 N/m, frictional (mu = --mu), T = 0.04 s", {});
+    const std::vector<std::pair<std::string, std::string>> full = {
+        {"particles", "9261"}, {"density", "2000"}, {"k", "1e8"},       {"gamma", "1"},
+        {"period", "0.005"},   {"v0", "0.64"},      {"v_max", "0.82"},  {"prep_rate", "50"},
+        {"relax", "0.0005"},   {"start_relax", "0.0002"}, {"gas_speed", "1"}};
+    auto ch2 = full;
+    ch2.insert(ch2.end(), {{"r_min", "0.5e-3"}, {"r_max", "1.5e-3"}, {"kt", "0"}, {"gamma_t", "0"}, {"mu", "0"},
+                           {"gamma_b", "0.1"}, {"gamma_br", "0"}});
+    p.addPreset("thesis-ch2", "thesis chapter 2: frictionless, N = 9261, r in [0.5, 1.5] mm, k = 1e8 N/m, gamma = 1 kg/s, "
+                              "gamma_b = 0.1 kg/s, T = 5000 us",
+                ch2);
+    auto ch3 = full;
+    ch3.insert(ch3.end(), {{"r_min", "0.8e-3"}, {"r_max", "1.2e-3"}, {"kt", "2e7"}, {"gamma_t", "0.2"},
+                           {"gamma_b", "0.1"}, {"gamma_br", "2e-8"}});
+    p.addPreset("thesis-ch3", "thesis chapter 3 (Table 3.1 in SI): N = 9261, w = 1.5, k_n = 1e8, k_t = 2e7 N/m, "
+                              "gamma_n = 1, gamma_t = 0.2 kg/s, mu = --mu",
+                ch3);
+}
+
+std::string ElementTest::stageName() const { return stage_ < stages_.size() && begun_ ? stages_[stage_].name : ""; }
+
+// ---- helpers ---------------------------------------------------------------------------------------
+void ElementTest::isotropicRate(double rate) {
+    for (int a = 0; a < 3; ++a) ctrl_.setStrainRate(a, rate);
+}
+void ElementTest::freeAll() {
+    for (int a = 0; a < 3; ++a) ctrl_.setFree(a);
+}
+double ElementTest::volumeFraction() const { return solid_ / box().volume(); }
+double ElementTest::lengthForFraction(int axis, double v) const {
+    const Vec3 L = box().length();
+    return solid_ / (v * L[(axis + 1) % 3] * L[(axis + 2) % 3]);
+}
+double ElementTest::totalMass() const {
+    double m = 0;
+    for (double x : particles().m) m += x;
+    return m;
+}
+double ElementTest::wallDampingFor(int axis, double wallMass) const {
+    double rs = 0;
+    for (double r : particles().r) rs += r;
+    const double rMean = rs / static_cast<double>(particles().size());
+    const double kEff = k_ * box().length()[axis] / (2 * rMean);
+    return 2 * std::sqrt(wallMass * kEff);
+}
+
+void ElementTest::setMaterial() {
+    if (rMax_ < rMin_) inputError("--r_max must not be smaller than --r_min");
+    ContactParameters c;
+    c.k = k_;
+    c.gamma = gamma_;
+    c.kt = kt_;
+    c.gammaT = gammaT_;
+    c.muS = c.muD = mu_;
+    addSpecies("grain", density_, c);
+    if (!parameters().wasSetOnCommandLine("contact_law")) setContactLaw(mu_ > 0 ? "linear" : "linear-frictionless");
+    setBackgroundDamping(gammaB_, gammaBr_);
+}
+
+// ---- set-up ----------------------------------------------------------------------------------------
+void ElementTest::setupInitialConditions() {
+    setMaterial();
+    if (!start_.empty()) {
+        const StartConfiguration c = readStartConfiguration(start_);
+        // overlaps of a simulated packing are physical: the insertion check does not apply
+        if (!parameters().wasSetOnCommandLine("max_initial_overlap")) parameters().set("max_initial_overlap", "1");
+        setDomain(c.lo, c.hi, true, true, true);
+        for (std::size_t i = 0; i < c.x.size(); ++i) addParticle(c.x[i], c.r[i], 0, c.v[i], c.w[i]);
+    } else {
+        if (vi_ < v0_) inputError("--v_i (" + formatDoubleShort(vi_) + ") must not be below --v0 (" +
+                                  formatDoubleShort(v0_) + ")");
+        if (vGas_ >= v0_) inputError("--v_gas must be below --v0");
+        const auto radii = uniformRadii(static_cast<std::size_t>(n_), rMin_, rMax_, random());
+        double solid = 0;
+        for (double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+        const double L = std::cbrt(solid / vGas_);
+        setDomain({0, 0, 0}, {L, L, L}, true, true, true);
+        insertRandom(*this, radii, {0, 0, 0}, {L, L, L}, gasSpeed_);
+    }
+    solid_ = 0;
+    for (double r : particles().r) solid_ += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    ctrl_.setReference(box());
+    lastFraction_ = volumeFraction();
+    buildStages();
+    double total = 0;
+    for (const auto& s : stages_) total += s.duration;
+    setTimeMax(time() + total);
+    if (!parameters().wasSetOnCommandLine("save_every")) setSaveEvery(testDuration() / outputsPerTest_);
+    macro_.setPath(outputPath(".macro.csv"));
+}
+
+void ElementTest::buildStages() {
+    stages_.clear();
+    fractions_.clear();
+    std::stringstream ss(saveFractions_);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        double f = 0;
+        if (!parseStrictDouble(item, f) || !(f > 0 && f < 1))
+            inputError("--save_fractions: '" + item + "' is not a volume fraction in (0, 1)");
+        fractions_.push_back(f);
+    }
+    if (start_.empty()) {
+        addStage({"compress", std::log(v0_ / vGas_) / (3 * prepRate_), [this] { isotropicRate(-prepRate_); }});
+        addStage({"relax", relax_, [this] { freeAll(); }});
+        if (vi_ > v0_) {
+            addStage({"compress_vi", std::log(vi_ / v0_) / (3 * prepRate_), [this] { isotropicRate(-prepRate_); }});
+            addStage({"relax_vi", relax_, [this] { freeAll(); }});
+        }
+    } else if (startRelax_ > 0) {
+        addStage({"relax_start", startRelax_, [this] { freeAll(); }});
+    }
+    addTestStages();
+    stages_.erase(std::remove_if(stages_.begin(), stages_.end(), [](const Stage& s) { return !(s.duration > 0); }),
+                  stages_.end());
+    if (stages_.empty()) inputError("nothing to do: every stage has zero duration");
+}
+
+double ElementTest::testStart() const {
+    double t = 0;
+    for (const auto& s : stages_) {
+        if (s.test) return t;
+        t += s.duration;
+    }
+    return t;
+}
+double ElementTest::testDuration() const {
+    double d = 0;
+    for (const auto& s : stages_)
+        if (s.test) d += s.duration;
+    if (d > 0) return d;
+    for (const auto& s : stages_) d += s.duration;
+    return d;
+}
+
+void ElementTest::actionsOnRestart() {
+    solid_ = 0;
+    for (double r : particles().r) solid_ += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const std::size_t savedStage = stage_;
+    const bool savedBegun = begun_;
+    const double savedStart = stageStart_;
+    // stage durations are fixed by the parameters; the first stage's start is time 0
+    const double t = time();
+    setTime(0);
+    buildStages();
+    setTime(t);
+    stage_ = savedStage;
+    begun_ = savedBegun;
+    stageStart_ = savedStart;
+    macro_.setPath(outputPath(".macro.csv"));
+    macro_.reload();
+    macro_.truncateAfter(time());
+    lastFraction_ = volumeFraction();
+}
+
+void ElementTest::actionsBeforeTimeLoop() {
+    if (ctrl_.needsStress()) refreshContacts();
+}
+
+void ElementTest::enterStage(std::size_t k) {
+    stage_ = k;
+    begun_ = true;
+    stageStart_ = time();
+    const bool firstTest = stages_[k].test && (k == 0 || !stages_[k - 1].test);
+    if (firstTest) {
+        ctrl_.setReference(box());
+        refLength_ = box().length();
+    }
+    if (stages_[k].begin) stages_[k].begin();
+    if (!quiet()) std::fprintf(stderr, "%s: t = %.6g s: stage '%s' (v = %.4f)\n", runName().c_str(), time(),
+                               stages_[k].name.c_str(), volumeFraction());
+}
+
+Vec3 ElementTest::currentStressDiagonal() {
+    Vec3 s;
+    for (const auto& c : contacts()) {
+        const Vec3 f = c.fn * c.n + c.ft;
+        for (int a = 0; a < 3; ++a) s[a] += f[a] * c.branch[a];
+    }
+    const ParticleData& P = particles();
+    for (std::size_t i = 0; i < P.size(); ++i)
+        for (int a = 0; a < 3; ++a) s[a] += P.m[i] * P.v[i][a] * P.v[i][a];
+    return s / box().volume();
+}
+
+void ElementTest::actionsBeforeTimeStep() {
+    const double t = time(), dt = timeStep();
+    // stage boundaries: cumulative durations from t = 0 (or from the stage in progress)
+    if (!begun_) enterStage(stage_);
+    while (stage_ + 1 < stages_.size() && t >= stageStart_ + stages_[stage_].duration - 0.5 * dt)
+        enterStage(stage_ + 1);
+    std::vector<double> dens;
+    if (ctrl_.swelling() != 0)
+        for (int s = 0; s < species().size(); ++s) dens.push_back(species()[s].density);
+    const Vec3 sigma = ctrl_.needsStress() ? currentStressDiagonal() : Vec3{};
+    ctrl_.step(box(), particles(), t, dt, sigma, dens);
+    if (ctrl_.swelling() != 0) {
+        solid_ = 0;
+        for (double r : particles().r) solid_ += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    }
+}
+
+void ElementTest::actionsAfterTimeStep() {
+    if (ctrl_.needsStress()) requestContacts();
+    const double v = volumeFraction();
+    if (begun_ && stage_ < stages_.size() && stages_[stage_].branch != Branch::None && !fractions_.empty()) {
+        const bool loading = stages_[stage_].branch == Branch::Loading;
+        for (double f : fractions_) {
+            const bool crossed = loading ? (lastFraction_ < f && v >= f) : (lastFraction_ > f && v <= f);
+            if (!crossed) continue;
+            char tag[32];
+            std::snprintf(tag, sizeof tag, ".%s_%.3f.restart", loading ? "load" : "unload", f);
+            writeRestart(outputPath(tag));
+        }
+    }
+    lastFraction_ = v;
+}
+
+void ElementTest::writeOutputFiles() {
+    DPMBase::writeOutputFiles();
+    const auto& p = parameters();
+    auto on = [&](const char* n) { const std::string v = p.get(n); return v == "1" || v == "true"; };
+    if (!(on("vtk") || on("ene") || on("fstat"))) refreshContacts();
+    MacroInput in;
+    in.volume = box().volume();
+    in.time = time();
+    in.tau = (time() - testStart()) / testDuration();
+    in.stiffness = k_;
+    in.mu = mu_;
+    const StrainState s = ctrl_.strain(box());
+    in.strain = {-s.trueStrain.x, -s.trueStrain.y, -s.trueStrain.z};
+    in.epsV = -s.volumetricTrue;
+    in.epsDev = s.deviatoric;
+    in.kineticEnergy = kineticEnergy() + rotationalEnergy();
+    in.elasticEnergy = elasticEnergy();
+    macro_.append(macroRow(computeMacro(particles(), contacts(), in), in));
+}
+
+void ElementTest::saveDriverState(std::vector<std::pair<std::string, std::string>>& kv) const {
+    kv.emplace_back("stage", std::to_string(stage_));
+    kv.emplace_back("stage_begun", begun_ ? "1" : "0");
+    kv.emplace_back("stage_start", fmt(stageStart_));
+    ctrl_.save(kv);
+}
+
+void ElementTest::loadDriverState(const std::vector<std::pair<std::string, std::string>>& kv) {
+    for (const auto& [k, v] : kv) {
+        long x = 0;
+        if (k == "stage" && parseStrictLong(v, x) && x >= 0) stage_ = static_cast<std::size_t>(x);
+        else if (k == "stage_begun") begun_ = v == "1";
+        else if (k == "stage_start") parseDouble(v, stageStart_);
+    }
+    ctrl_.load(kv);
+}
+
+} // namespace pdpm

@@ -1,0 +1,116 @@
+// ElementTest: the common base of the element-test drivers (IsotropicCompression, UniaxialCyclic,
+// DeviatoricD2 / D3 / triaxial) of thesis chapters 2-3, in a fully periodic deformable box.
+//
+// It owns
+//   - the material and system parameters with the presets `default` (fast, frictional, mu = --mu),
+//     `thesis-ch2` (frictionless, N = 9261, w = 3) and `thesis-ch3` (frictional, N = 9261, w = 1.5);
+//   - the three-step preparation of Sec. 2.3.1 / 3.2.1 (random gas with large random velocities ->
+//     isotropic compression at a constant true strain rate to v0 -> relaxation at constant volume),
+//     optionally followed by a further isotropic compression to the test's start fraction v_i and a
+//     relaxation; or, with --start FILE, the configuration of a restart file written by any element
+//     test driver (e.g. IsotropicCompression's RUN.unload_0.700.restart), then a relaxation;
+//   - a list of stages (name, duration, what the box controller does), run one after the other;
+//   - the BoxController (Kernel/Boundaries/BoxController.h) and the micro-macro analysis written to
+//     RUN.macro.csv at every output (Tools/MicroMacro/MicroMacro.h);
+//   - restart files at a list of volume fractions on loading and unloading stages
+//     (RUN.load_0.700.restart, RUN.unload_0.700.restart).
+//
+// A driver overrides addTestStages() (and may register parameters in its constructor).
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "Boundaries/BoxController.h"
+#include "Core/DPMBase.h"
+#include "Core/Error.h"
+#include "MicroMacro.h"
+
+namespace pdpm {
+
+/// Particles and box of a PowderDPM restart file (any program), for --start.
+struct StartConfiguration {
+    Vec3 lo, hi;
+    std::vector<Vec3> x, v, w;
+    std::vector<double> r;
+};
+/// InputError if the file is missing, not a restart file, or malformed.
+StartConfiguration readStartConfiguration(const std::string& path);
+
+class ElementTest : public DPMBase {
+public:
+    ElementTest(const std::string& name, const std::string& description);
+
+    /// What a stage does with the box when it begins.
+    enum class Branch { None, Loading, Unloading };
+    struct Stage {
+        std::string name;
+        double duration = 0;
+        std::function<void()> begin;  ///< sets up the box controller (called once, at the stage start)
+        Branch branch = Branch::None; ///< restart files at save_fractions are written on these
+        bool test = false;            ///< part of the test proper: tau counts over these stages
+    };
+
+    const BoxController& controller() const { return ctrl_; }
+    const MacroCsv& macro() const { return macro_; }
+    /// Name of the current stage ("" before the first).
+    std::string stageName() const;
+
+protected:
+    /// Append the driver's stages (after the preparation). Called at set-up and on --restart (where
+    /// the `begin` of stages already begun is not called again).
+    virtual void addTestStages() = 0;
+    void addStage(Stage s) { stages_.push_back(std::move(s)); }
+
+    // helpers for drivers
+    void isotropicRate(double rate);  ///< every axis at true strain rate `rate`
+    void freeAll();
+    double volumeFraction() const;
+    double solidVolume() const { return solid_; }
+    /// Box length that gives volume fraction v for a box with the other lengths fixed (axis a).
+    double lengthForFraction(int axis, double v) const;
+    /// Virtual wall damping for stress control: 2 sqrt(m_w k_eff), k_eff = k L/(2<r>) (springs in series/parallel).
+    double wallDampingFor(int axis, double wallMass) const;
+    double totalMass() const;
+    BoxController& ctrl() { return ctrl_; }
+
+    // ---- parameters shared by every element test ----
+    long n_ = 0;
+    double rMin_ = 0, rMax_ = 0, density_ = 0, k_ = 0, gamma_ = 0, kt_ = 0, gammaT_ = 0, mu_ = 0;
+    double gammaB_ = 0, gammaBr_ = 0;
+    double vGas_ = 0, gasSpeed_ = 0, v0_ = 0, prepRate_ = 0, relax_ = 0, vi_ = 0, startRelax_ = 0;
+    double vMax_ = 0, period_ = 0;
+    std::string start_, saveFractions_;
+    int outputsPerTest_ = 0;
+
+    // DPMBase hooks
+    void setupInitialConditions() override;
+    void actionsOnRestart() override;
+    void actionsBeforeTimeLoop() override;
+    void actionsBeforeTimeStep() override;
+    void actionsAfterTimeStep() override;
+    void writeOutputFiles() override;
+    void saveDriverState(std::vector<std::pair<std::string, std::string>>& kv) const override;
+    void loadDriverState(const std::vector<std::pair<std::string, std::string>>& kv) override;
+
+private:
+    void buildStages();
+    void enterStage(std::size_t k);
+    void setMaterial();
+    Vec3 currentStressDiagonal();
+    double testDuration() const;
+    double testStart() const;
+
+    BoxController ctrl_;
+    MacroCsv macro_;
+    std::vector<Stage> stages_;
+    std::size_t stage_ = 0;       ///< index of the current stage
+    bool begun_ = false;          ///< stage_ has begun
+    double stageStart_ = 0;
+    double solid_ = 0;
+    double lastFraction_ = 0;
+    std::vector<double> fractions_;
+    Vec3 refLength_;
+};
+
+} // namespace pdpm
