@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 out="${1:-demo-output}"
 scripts/build.sh
-for p in IsotropicCompression UniaxialCyclic pdpm-fit; do
+for p in IsotropicCompression UniaxialCyclic pdpm-fit pdpm-explain pdpm-explain-data; do
   if [[ ! -x build/bin/$p ]]; then
     echo "demo.sh: build/bin/$p was not built" >&2
     exit 1
@@ -30,3 +30,18 @@ echo
 echo "demo.sh: outputs are in $(cd "$out" && pwd):"
 ls -1 "$out" | grep -v '_[0-9]*\.vtu$' | sed "s/^/  /" | head -n 40 || true
 echo "  (plus RUN_NNNN.vtu snapshots for ParaView; figures in plots/)"
+
+# pdpm-explain on the thesis' cocoa relaxation recording (lambdameter, protocol 1; reconstructed from
+# Tables 4.4/4.5 of ../shared/data/thesis): where does a model without time dependence disagree, and why?
+shared="$(cd .. && pwd)/shared"
+if [[ -f "$shared/data/thesis/table_4_5_relaxation_materials.csv" ]]; then
+  build/bin/pdpm-explain-data thesis --material cocoa --data "$shared/data" --output "$out/explain-cocoa-input" >/dev/null
+  build/bin/pdpm-explain --recording "$out/explain-cocoa-input/recording.csv" \
+    --protocol "$out/explain-cocoa-input/protocol.json" --output "$out/explain-cocoa" >/dev/null
+  echo
+  echo "pdpm-explain on the thesis cocoa recording (report: $out/explain-cocoa/report.md):"
+  grep -m1 '"verdict"' "$out/explain-cocoa/report.json" | sed 's/^ */  /'
+  grep -A3 -m1 -i "^## *verdict\|^\*\*verdict" "$out/explain-cocoa/report.md" | sed 's/^/  /' || true
+else
+  echo "demo.sh: ../shared/data/thesis not found, skipping pdpm-explain" >&2
+fi
