@@ -62,7 +62,13 @@ public:
             const double d2 = dx * dx + dy * dy + dz * dz;
             double* h = hist + k * H;
             if (d2 >= rs * rs) {
-                if constexpr (H > 0) for (int q = 0; q < H; ++q) h[q] = 0.0;
+                // Reset the history of a pair that is not touching; write only if needed, so that the
+                // cache lines of near-miss pairs stay clean (a static bed has many).
+                if constexpr (H > 0) {
+                    bool dirty = false;
+                    for (int q = 0; q < H; ++q) dirty |= h[q] != 0.0;
+                    if (dirty) for (int q = 0; q < H; ++q) h[q] = 0.0;
+                }
                 continue;
             }
             const double dist = std::sqrt(d2);
