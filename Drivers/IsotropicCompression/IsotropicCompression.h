@@ -14,9 +14,7 @@ public:
     IsotropicCompression()
         : ElementTest("IsotropicCompression",
                       "Isotropic element test: preparation, loading to v_max and unloading (thesis Fig. 2.1)") {
-        parameters().add("drive", &drive_, "wall",
-                         "wall: only the periodic walls move; strain_rate: particles are remapped affinely too",
-                         {"wall", "strain_rate"});
+        addDriveParameter();
     }
 
 protected:
@@ -28,7 +26,7 @@ protected:
                       const double s = std::cbrt(v / vMax_);
                       for (int a = 0; a < 3; ++a) {
                           const double L = box().length()[a];
-                          ctrl().setCosine(a, L, L * s, period_, time(), drive_ == "strain_rate");
+                          ctrl().setCosine(a, L, L * s, period_, time(), affineDrive());
                       }
                   },
                   Branch::Loading, true});
@@ -36,5 +34,4 @@ protected:
     }
 
 private:
-    std::string drive_;
 };

@@ -10,9 +10,7 @@ class UniaxialCyclic : public pdpm::ElementTest {
 public:
     UniaxialCyclic()
         : ElementTest("UniaxialCyclic", "Uniaxial (oedometric) loading to v_max and unloading along z (thesis Sec. 2.3.2)") {
-        parameters().add("drive", &drive_, "wall",
-                         "wall: only the periodic walls move; strain_rate: particles are remapped affinely too",
-                         {"wall", "strain_rate"});
+        addDriveParameter();
     }
 
 protected:
@@ -24,12 +22,11 @@ protected:
                       const double L = box().length().z;
                       ctrl().setFree(0);
                       ctrl().setFree(1);
-                      ctrl().setCosine(2, L, L * v / vMax_, period_, time(), drive_ == "strain_rate");
+                      ctrl().setCosine(2, L, L * v / vMax_, period_, time(), affineDrive());
                   },
                   Branch::Loading, true});
         addStage({"unload", 0.5 * period_, nullptr, Branch::Unloading, true});
     }
 
 private:
-    std::string drive_;
 };

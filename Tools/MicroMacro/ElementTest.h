@@ -63,6 +63,14 @@ protected:
     void addStage(Stage s) { stages_.push_back(std::move(s)); }
 
     // helpers for drivers
+    /// Register --drive wall|strain_rate (cosine-law tests): whether only the periodic walls move or
+    /// the particles are remapped affinely too. Read the choice with affineDrive().
+    void addDriveParameter() {
+        parameters().add("drive", &drive_, "wall",
+                         "wall: only the periodic walls move; strain_rate: particles are remapped affinely too",
+                         {"wall", "strain_rate"});
+    }
+    bool affineDrive() const { return drive_ == "strain_rate"; }
     void isotropicRate(double rate);  ///< every axis at true strain rate `rate`
     void freeAll();
     double volumeFraction() const;
@@ -73,6 +81,7 @@ protected:
     double wallDampingFor(int axis, double wallMass) const;
     double totalMass() const;
     BoxController& ctrl() { return ctrl_; }
+    std::string drive_;  ///< --drive (see addDriveParameter)
 
     // ---- parameters shared by every element test ----
     long n_ = 0;
