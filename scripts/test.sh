@@ -1,21 +1,23 @@
 #!/usr/bin/env bash
 # Builds and runs the fast test suite (everything except the labels "validation" and "benchmark").
-#   scripts/test.sh              normal suite, then the sanitizer suite (unit + selftest under
-#                                ASan/UBSan) unless PDPM_SKIP_SANITIZE=1
-#   scripts/test.sh --sanitize   only the sanitizer suite
-#   scripts/test.sh --quick      only the normal suite (no sanitizer build)
+#   scripts/test.sh              the normal suite (Release build in build/)
+#   scripts/test.sh --sanitize   the sanitizer suite: unit + selftest under ASan/UBSan (build-sanitize/)
+#   scripts/test.sh --all        both (what .ci/run does)
+#   scripts/test.sh --quick      the normal suite (kept for compatibility: same as no flag)
 # Exits non-zero if any test fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 sanitize_only=0
 quick=0
+all=0
 for arg in "$@"; do
   case "$arg" in
     --sanitize) sanitize_only=1 ;;
     --quick) quick=1 ;;
-    -h|--help) echo "usage: $0 [--sanitize] [--quick]"; exit 0 ;;
-    *) echo "test.sh: unknown argument '$arg' (usage: $0 [--sanitize] [--quick])" >&2; exit 2 ;;
+    --all) all=1 ;;
+    -h|--help) echo "usage: $0 [--sanitize] [--all] [--quick]"; exit 0 ;;
+    *) echo "test.sh: unknown argument '$arg' (usage: $0 [--sanitize] [--all] [--quick])" >&2; exit 2 ;;
   esac
 done
 
@@ -39,7 +41,7 @@ if [[ $sanitize_only -eq 1 ]]; then
 fi
 
 run_normal
-if [[ $quick -eq 0 && "${PDPM_SKIP_SANITIZE:-0}" != "1" ]]; then
+if [[ $all -eq 1 && $quick -eq 0 && "${PDPM_SKIP_SANITIZE:-0}" != "1" ]]; then
   run_sanitize
 fi
 echo "== test.sh: all tests passed" >&2
