@@ -82,11 +82,11 @@ TEST(ExplainFit, RecoversRelaxationParametersFromCleanData) {
 
 TEST(ExplainInput, BadInputsAreInputErrors) {
     const std::string d = workDir("badinput");
-    writeWholeFile(d + "/noGeom.json", R"({"device":"x","steps":[{"type":"ramp"}]})");
+    writeWholeFile(d + "/noGeom.json", R"({"device":{"name":"x"},"steps":[{"type":"ramp"}]})");
     EXPECT_THROW(readProtocol(d + "/noGeom.json"), InputError);
-    writeWholeFile(d + "/badStep.json", R"({"geometry":{"diameter_m":0.05,"height_m":0.05},"steps":[{"type":"jump"}]})");
+    writeWholeFile(d + "/badStep.json", R"({"device":{"name":"x","diameter_m":0.05,"height_m":0.05},"steps":[{"type":"jump"}]})");
     EXPECT_THROW(readProtocol(d + "/badStep.json"), InputError);
-    writeWholeFile(d + "/ok.json", R"({"device":"x","geometry":{"diameter_m":0.05,"height_m":0.05},"steps":[{"type":"ramp","duration_s":5000}]})");
+    writeWholeFile(d + "/ok.json", R"({"format":"pdpm-oedometer-protocol","version":1,"device":{"name":"x","diameter_m":0.05,"height_m":0.05},"steps":[{"type":"hold_position","duration_s":5000}]})");
     const Protocol p = readProtocol(d + "/ok.json");
     std::string csv = "time_s,axial_strain\n";
     for (int i = 0; i < 30; ++i) csv += std::to_string(i) + "," + std::to_string(0.001 * i) + "\n";

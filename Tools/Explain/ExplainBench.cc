@@ -1,5 +1,7 @@
 #include "ExplainBench.h"
 
+#include "Recording.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -263,24 +265,7 @@ void writeRecordingCsv(const Recording& r, const std::string& path, const std::v
 }
 
 void writeProtocolJson(const Protocol& p, const std::string& path) {
-    Json j = Json::object();
-    j.set("device", p.device);
-    Json g = Json::object();
-    g.set("diameter_m", p.diameter);
-    g.set("height_m", p.height);
-    j.set("geometry", g);
-    j.set("material", p.material);
-    Json st = Json::array();
-    for (const auto& s : p.steps) {
-        Json o = Json::object();
-        o.set("type", stepTypeName(s.type));
-        if (s.velocity >= 0) o.set("velocity_m_s", s.velocity);
-        if (s.targetStress >= 0) o.set("target_stress_Pa", s.targetStress);
-        if (s.duration >= 0) o.set("duration_s", s.duration);
-        st.push(o);
-    }
-    j.set("steps", st);
-    writeJsonFile(path, j);
+    recording::writeProtocol(path, toRecordingProtocol(p));
 }
 
 void writeCase(const GeneratedCase& g, const std::string& caseDir, const std::string& truthPath) {

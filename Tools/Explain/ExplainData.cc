@@ -7,6 +7,7 @@
 #include "Core/Error.h"
 #include "IO/Csv.h"
 #include "IO/Json.h"
+#include "Recording.h"
 
 namespace pdpm::explain {
 
@@ -30,57 +31,61 @@ const char* phaseName(Phase p) {
     return "?";
 }
 
-namespace {
 
-double positiveNumber(const Json& obj, const std::string& key, const std::string& what) {
-    const double v = obj.at(key).asNumber(what + "." + key);
-    if (!(v > 0)) inputError(what + "." + key + " must be > 0 (got " + std::to_string(v) + ")");
-    return v;
-}
-
-double optionalNonNegative(const Json& obj, const std::string& key, const std::string& what) {
-    const Json* j = obj.find(key);
-    if (!j || j->isNull()) return -1;
-    const double v = j->asNumber(what + "." + key);
-    if (v < 0) inputError(what + "." + key + " must be >= 0 (got " + std::to_string(v) + ")");
-    return v;
-}
-
-} // namespace
-
+// Protocol files are in the one documented format (Documentation/recording-format.md), read by the
+// shared recording library; this converts to the explainer's view of the steps.
 Protocol readProtocol(const std::string& path) {
-    const Json j = readJsonFile(path);
-    if (!j.isObject()) inputError(path + ": protocol must be a JSON object");
+    const recording::Protocol rp = recording::readProtocol(path);
     Protocol p;
     p.source = path;
-    if (j.has("device")) p.device = j.at("device").asString(path + ": device");
-    if (j.has("material")) {
-        const Json& m = j.at("material");
-        p.material = m.isString() ? m.asString() : m.dump(0);
-    }
-    const Json& g = j.at("geometry");
-    if (!g.isObject()) inputError(path + ": geometry must be an object");
-    p.diameter = positiveNumber(g, "diameter_m", path + ": geometry");
-    p.height = positiveNumber(g, "height_m", path + ": geometry");
-    const auto& steps = j.at("steps").asArray(path + ": steps");
-    if (steps.empty()) inputError(path + ": steps is empty");
-    for (std::size_t i = 0; i < steps.size(); ++i) {
-        const std::string what = path + ": steps[" + std::to_string(i) + "]";
-        const Json& s = steps[i];
-        if (!s.isObject()) inputError(what + " must be an object");
-        const std::string& type = s.at("type").asString(what + ".type");
-        ProtocolStep st;
-        if (type == "ramp") st.type = StepType::Ramp;
-        else if (type == "hold") st.type = StepType::Hold;
-        else if (type == "unload") st.type = StepType::Unload;
-        else if (type == "creep") st.type = StepType::Creep;
-        else inputError(what + ".type '" + type + "' is not one of ramp, hold, unload, creep");
-        st.velocity = optionalNonNegative(s, "velocity_m_s", what);
-        st.targetStress = optionalNonNegative(s, "target_stress_Pa", what);
-        st.duration = optionalNonNegative(s, "duration_s", what);
-        p.steps.push_back(st);
+    p.device = rp.device;
+    const Json* name = rp.material.isObject() ? rp.material.find("name") : nullptr;
+    p.material = name && name->isString() ? name->asString() : rp.material.dump(0);
+    p.diameter = rp.diameter;  // 0: laterally periodic (no side wall)
+    p.height = rp.height;
+    if (!(p.height > 0)) inputError(path + ": device.height_m must be > 0 (the explainer converts piston travel to strain)");
+    if (rp.steps.empty()) inputError(path + ": steps is empty");
+    for (const auto& st : rp.steps) {
+        ProtocolStep q;
+        switch (st.kind) {
+        case recording::Step::Kind::Ramp: q.type = StepType::Ramp; break;
+        case recording::Step::Kind::HoldPosition: q.type = StepType::Hold; break;
+        case recording::Step::Kind::Unload: q.type = StepType::Unload; break;
+        case recording::Step::Kind::HoldStress: q.type = StepType::Creep; break;
+        }
+        if (st.kind == recording::Step::Kind::Ramp || st.kind == recording::Step::Kind::Unload) {
+            q.velocity = st.velocity;
+            q.targetStress = st.targetStress;
+        } else {
+            q.duration = st.duration;
+        }
+        p.steps.push_back(q);
     }
     return p;
+}
+
+recording::Protocol toRecordingProtocol(const Protocol& p) {
+    recording::Protocol rp;
+    rp.source = "experiment";
+    rp.device = p.device.empty() ? "oedometer" : p.device;
+    rp.diameter = p.diameter;
+    rp.height = p.height;
+    rp.material = Json::object();
+    rp.material.set("name", p.material);
+    for (const auto& s : p.steps) {
+        recording::Step st;
+        switch (s.type) {
+        case StepType::Ramp: st.kind = recording::Step::Kind::Ramp; break;
+        case StepType::Hold: st.kind = recording::Step::Kind::HoldPosition; break;
+        case StepType::Unload: st.kind = recording::Step::Kind::Unload; break;
+        case StepType::Creep: st.kind = recording::Step::Kind::HoldStress; break;
+        }
+        st.velocity = s.velocity > 0 ? s.velocity : 0;
+        st.targetStress = s.targetStress > 0 ? s.targetStress : 0;
+        st.duration = s.duration > 0 ? s.duration : 0;
+        rp.steps.push_back(st);
+    }
+    return rp;
 }
 
 Recording readRecording(const std::string& path, const Protocol& proto) {

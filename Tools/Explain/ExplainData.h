@@ -1,9 +1,9 @@
 // pdpm-explain: input data (recording + protocol), phase detection.
 //
-// A minimal reader for the recording format of issue 5 (CSV with '#' comments, column time_s and
-// at least one of axial_stress_Pa, axial_strain, piston_position_m, lateral_stress_Pa,
-// bottom_stress_Pa, volume_fraction; plus a JSON protocol file). It lives here until the shared
-// Tools/Recording library exists; the lead will switch it over.
+// Reads the recording format (Documentation/recording-format.md): the protocol JSON through the
+// shared recording library (Tools/Recording), the CSV with the strict CSV reader, keeping the
+// channels the explainer uses (time_s, axial_strain or piston_position_m, axial_stress_Pa,
+// lateral_stress_Pa).
 //
 // The explainer treats the axial strain (compression positive) as the control channel and the
 // axial stress as the response. The strain comes from `axial_strain`, or else from
@@ -11,6 +11,10 @@
 #pragma once
 #include <string>
 #include <vector>
+
+namespace pdpm::recording {
+struct Protocol;
+}
 
 namespace pdpm::explain {
 
@@ -42,8 +46,11 @@ struct Recording {
     std::size_t size() const { return t.size(); }
 };
 
-/// Protocol JSON; InputError with a clear message on anything malformed.
+/// Protocol JSON in the documented format (Documentation/recording-format.md, read by the shared
+/// recording library); InputError with a clear message on anything malformed.
 Protocol readProtocol(const std::string& path);
+/// The explainer's protocol in the documented format (for the generators).
+recording::Protocol toRecordingProtocol(const Protocol& p);
 /// Recording CSV; needs the protocol for piston-position recordings. InputError when malformed,
 /// when the control or response channel is missing, or when it is inconsistent with the protocol.
 Recording readRecording(const std::string& path, const Protocol& proto);

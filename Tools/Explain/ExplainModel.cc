@@ -155,7 +155,7 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
                 }
             }
             double s = sel - Dcur + (tauV > 0 ? E * tauV * in_.rate[i] : 0.0);
-            if (muK > 0) {
+            if (muK > 0 && in_.diameter > 0) {  // no side wall (laterally periodic): no wall friction
                 if (i > 0) m = std::clamp(m + 2 * (e - ePrev) / mobil, -1.0, 1.0);
                 const double u = m * 4 * muK * in_.height * (1 - e) / in_.diameter;
                 const double g = std::abs(u) < 1e-8 ? 1 + 0.5 * u : u / (1 - std::exp(-u));
