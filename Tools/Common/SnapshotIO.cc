@@ -267,10 +267,17 @@ std::vector<std::string> readPvd(const std::string& path) {
     const std::string text = ss.str();
     if (text.find("Collection") == std::string::npos) inputError(path + ": not a VTK collection (.pvd) file");
     std::vector<std::string> files;
-    static const std::regex dataSet(R"re(<DataSet\b[^>]*\bfile\s*=\s*"([^"]*)")re");
+    static const std::regex dataSet(R"re(<DataSet\b[^>]*>)re");
+    static const std::regex fileAttr(R"re(\bfile\s*=\s*"([^"]*)")re");
+    static const std::regex partAttr(R"re(\bpart\s*=\s*"([^"]*)")re");
     const fs::path dir = fs::path(path).parent_path();
     for (auto it = std::sregex_iterator(text.begin(), text.end(), dataSet); it != std::sregex_iterator(); ++it) {
-        fs::path f = (*it)[1].str();
+        const std::string tag = (*it)[0].str();
+        std::smatch m;
+        // The kernel lists particles as part 0 and wall geometry as part 1: read particles only.
+        if (std::regex_search(tag, m, partAttr) && m[1].str() != "0") continue;
+        if (!std::regex_search(tag, m, fileAttr)) continue;
+        fs::path f = m[1].str();
         if (f.is_relative()) f = dir / f;
         files.push_back(f.string());
     }

@@ -113,7 +113,16 @@ int run(int argc, char** argv) {
     const Vec3 e = cfg.axis / norm(cfg.axis);
     std::vector<std::string> rows;
     PolarResult last;
+    std::size_t analysed = 0;
     for (std::size_t k = 0; k < blocks.size(); ++k) {
+        // Snapshots without contacts (a packing before it touches, say) are skipped, not fatal.
+        bool any = false;
+        for (const auto& c : blocks[k].contacts) any = any || cfg.includeWalls || !c.isWallContact();
+        if (!any) {
+            std::cerr << "pdpm-polar: note: block at t = " << fmt(blocks[k].time) << " has no contacts; skipped\n";
+            continue;
+        }
+        ++analysed;
         const PolarResult r = analysePolar(blocks[k], cfg);
         const Vec3 L = blocks[k].boxHi - blocks[k].boxLo;
         double ev[3];
@@ -128,6 +137,7 @@ int run(int argc, char** argv) {
         }
         last = r;
     }
+    if (analysed == 0) inputError("no contacts in any block of the input");
     writeFileAtomically(joinPath(output, name + "_series.csv"), [&](std::ostream& os) {
         os << polarSeriesHeader() << "\n";
         for (const auto& row : rows) os << row << "\n";
