@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "TempDir.h"
+
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -32,22 +34,7 @@ using namespace pdpm;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::temp_directory_path() /
-               ("pdpm_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(::getpid()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string str() const { return path.string(); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
+using pdpm::testing::TempDir;
 
 /// A small scene: 4 particles in a box periodic along x only, a plane and a cylinder wall.
 struct Scene {
