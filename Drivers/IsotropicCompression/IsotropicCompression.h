@@ -21,8 +21,7 @@ protected:
     void addTestStages() override {
         addStage({"load", 0.5 * period_,
                   [this] {
-                      const double v = volumeFraction();
-                      if (!(v < vMax_)) pdpm::inputError("volume fraction at the start of the test is not below --v_max");
+                      const double v = startFractionBelowVMax();
                       const double s = std::cbrt(v / vMax_);
                       for (int a = 0; a < 3; ++a) {
                           const double L = box().length()[a];

@@ -17,8 +17,7 @@ protected:
     void addTestStages() override {
         addStage({"load", 0.5 * period_,
                   [this] {
-                      const double v = volumeFraction();
-                      if (!(v < vMax_)) pdpm::inputError("volume fraction at the start of the test is not below --v_max");
+                      const double v = startFractionBelowVMax();
                       const double L = box().length().z;
                       ctrl().setFree(0);
                       ctrl().setFree(1);

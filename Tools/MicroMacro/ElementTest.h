@@ -74,6 +74,12 @@ protected:
     void isotropicRate(double rate);  ///< every axis at true strain rate `rate`
     void freeAll();
     double volumeFraction() const;
+    /// Current volume fraction; InputError if it is not below --v_max (start of a loading test).
+    double startFractionBelowVMax() const {
+        const double v = volumeFraction();
+        if (!(v < vMax_)) inputError("volume fraction at the start of the test is not below --v_max");
+        return v;
+    }
     double solidVolume() const { return solid_; }
     /// Box length that gives volume fraction v for a box with the other lengths fixed (axis a).
     double lengthForFraction(int axis, double v) const;

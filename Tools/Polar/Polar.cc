@@ -89,44 +89,39 @@ std::vector<PolarBin> usable(const std::vector<PolarBin>& bins) {
 
 } // namespace
 
-HarmonicFit fitM1(const std::vector<PolarBin>& bins) {
+namespace {
+// M1 and M3 share one linear least-squares fit of the 2nd and 6th order harmonics; they differ in
+// the data (M1: the density P(theta); M3: the bin fractions) and in a per-bin weight on the model.
+template <class Data, class Weight>
+HarmonicFit linearHarmonicFit(const char* method, const std::vector<PolarBin>& bins, Data data, Weight weight) {
     HarmonicFit out;
-    out.method = "M1";
+    out.method = method;
     const auto b = usable(bins);
     const long n = long(b.size());
     Eigen::MatrixXd X(n, 4), X2(n, 2);
     Eigen::VectorXd y(n);
     for (long k = 0; k < n; ++k) {
         const double c = std::cos(b[k].theta);
-        X.row(k) << 1, harmonicY(2, c), harmonicY(4, c), harmonicY(6, c);
-        X2.row(k) << 1, harmonicY(2, c);
-        y(k) = b[k].P;
+        const double s = weight(b[k]);
+        X.row(k) << s, s * harmonicY(2, c), s * harmonicY(4, c), s * harmonicY(6, c);
+        X2.row(k) << s, s * harmonicY(2, c);
+        y(k) = data(b[k]);
     }
     ratioFit(leastSquares(X, y), out);
     ratioFit2(leastSquares(X2, y), out);
     out.points = int(n);
     return out;
 }
+} // namespace
+
+HarmonicFit fitM1(const std::vector<PolarBin>& bins) {
+    return linearHarmonicFit("M1", bins, [](const PolarBin& q) { return q.P; }, [](const PolarBin&) { return 1.0; });
+}
 
 HarmonicFit fitM3(const std::vector<PolarBin>& bins) {
-    HarmonicFit out;
-    out.method = "M3";
-    const auto b = usable(bins);
-    const long n = long(b.size());
-    Eigen::MatrixXd X(n, 4), X2(n, 2);
-    Eigen::VectorXd y(n);
-    for (long k = 0; k < n; ++k) {
-        const double c = std::cos(b[k].theta);
-        // fraction in a half-range bin (both mirror images) = 2 Δθ sin θ P(θ)
-        const double s = 2 * (b[k].hi - b[k].lo) * std::sin(b[k].theta);
-        X.row(k) << s, s * harmonicY(2, c), s * harmonicY(4, c), s * harmonicY(6, c);
-        X2.row(k) << s, s * harmonicY(2, c);
-        y(k) = b[k].fraction;
-    }
-    ratioFit(leastSquares(X, y), out);
-    ratioFit2(leastSquares(X2, y), out);
-    out.points = int(n);
-    return out;
+    // fraction in a half-range bin (both mirror images) = 2 dtheta sin(theta) P(theta)
+    return linearHarmonicFit("M3", bins, [](const PolarBin& q) { return q.fraction; },
+                             [](const PolarBin& q) { return 2 * (q.hi - q.lo) * std::sin(q.theta); });
 }
 
 HarmonicFit fitM2(const std::vector<PolarBin>& bins) {
