@@ -151,7 +151,9 @@ protected:
     }
     bool cylinder() const { return geometry_ == "cylinder"; }
 
-    void setupInitialConditions() override {
+    /// Protocol steps and material from the parameters (also after a restart, whose file restores
+    /// the parameters but not these derived objects).
+    void loadProtocolAndMaterial() {
         if (protocolPreset_ > 0 && !protocolFile_.empty())
             inputError("--protocol and --protocol_file are exclusive");
         if (!protocolFile_.empty()) {
@@ -164,6 +166,10 @@ protected:
         }
         mat_ = oedometerMaterial(material_, muWall_);
         mat_.dMean = dMean_;
+    }
+
+    void setupInitialConditions() override {
+        loadProtocolAndMaterial();
         for (ContactParameters* c : {&mat_.pp, &mat_.pw}) {
             c->relaxC = relaxC_;
             c->relaxT0 = relaxT0_;
@@ -186,6 +192,8 @@ protected:
         // ---- fill: grid in a tall column, settle under gravity ------------------------------------
         // Settling without adhesion (a dense, reproducible start, like the FT4 conditioning), no relaxation.
         OedometerFill fill;
+        fill.setQuiet(quiet());
+        fill.setProgressLabel("filling: ");
         setupSpecies(fill, 0, true);
         const double s = 2.05 * rMax;
         const int nxy = std::max(1, static_cast<int>(std::floor(lx / s)));
@@ -258,16 +266,45 @@ protected:
         rMeanMass_ = mMean;
     }
 
-    void actionsOnRestart() override { installPistonMotion(); }
+    void actionsOnRestart() override {
+        loadProtocolAndMaterial();
+        if (stepIndex_ > steps_.size()) inputError("restart file: protocol step " + std::to_string(stepIndex_) + " beyond the protocol");
+        installPistonMotion();
+        restarted_ = true;
+    }
 
     void actionsBeforeTimeLoop() override {
-        startStep(0);
+        if (restarted_) {
+            if (stepIndex_ < steps_.size()) setLabScale(labScale_);
+        } else {
+            startStep(0);
+        }
         if (!quiet())
             std::cout << "OedometerRelaxation: " << particles().size() << " particles, bed height " << fmt(pistonZ0_)
                       << " m, dt " << fmt(timeStep()) << " s, fill took " << fmt(fillTime_) << " s DEM\n";
     }
 
     bool continueSolve() const override { return stepIndex_ < steps_.size(); }
+
+    /// Progress: completed protocol steps plus the fraction of the current one (hold: lab time,
+    /// ramp/unload: stress change).
+    double progressFraction() const override {
+        if (steps_.empty()) return 1;
+        if (stepIndex_ >= steps_.size()) return 1;
+        const recording::Step& st = steps_[stepIndex_];
+        double inner = 0;
+        switch (st.kind) {
+            case recording::Step::Kind::Ramp:
+            case recording::Step::Kind::Unload: {
+                const double span = st.targetStress - rampStartStress_;
+                inner = std::abs(span) > 0 ? (axialStress() - rampStartStress_) / span : 0;
+                break;
+            }
+            case recording::Step::Kind::HoldPosition:
+            case recording::Step::Kind::HoldStress: inner = st.duration > 0 ? (labTime_ - stepLabStart_) / st.duration : 1; break;
+        }
+        return (static_cast<double>(stepIndex_) + std::clamp(inner, 0.0, 1.0)) / static_cast<double>(steps_.size());
+    }
 
     void actionsBeforeTimeStep() override {
         const double dt = timeStep();
@@ -300,7 +337,7 @@ protected:
         pistonV_ = v;
         pistonZ_ = h + v * dt;
         labTime_ += dt * labScale_;
-        if ((step() + 1) % recordEvery_ == 0) requestContacts();
+        if ((step() + 1) % recordEvery_ == 0) requestContacts();  // records of the step about to be made
     }
 
     void actionsAfterTimeStep() override {
@@ -340,18 +377,87 @@ protected:
                         100 * (1 - hr.stressEnd / hr.stressStart), hr.maxEkEp, hr.fit.C, hr.fit.t0, hr.fit.rms);
     }
 
+    // Restart: the driver's whole state, including the recording and hold curves gathered so far,
+    // so that a restarted run writes the same files as a straight one.
     void saveDriverState(std::vector<std::pair<std::string, std::string>>& kv) const override {
-        kv.emplace_back("pistonZ", fmt(pistonZ_));
-        kv.emplace_back("pistonZ0", fmt(pistonZ0_));
-        kv.emplace_back("labTime", fmt(labTime_));
-        kv.emplace_back("stepIndex", std::to_string(stepIndex_));
+        const auto put = [&kv](const std::string& k, double v) { kv.emplace_back(k, fmt(v)); };
+        put("pistonZ", pistonZ_);
+        put("pistonZ0", pistonZ0_);
+        put("pistonV", pistonV_);
+        put("labTime", labTime_);
+        put("labScale", labScale_);
+        put("stepLabStart", stepLabStart_);
+        put("rampStartStress", rampStartStress_);
+        put("creepStress", creepStress_);
+        put("solid", solid_);
+        put("fillTime", fillTime_);
+        put("maxInertial", maxInertial_);
+        put("stepIndex", static_cast<double>(stepIndex_));
+        put("pistonWall", static_cast<double>(pistonWall_));
+        put("bottomWall", static_cast<double>(bottomWall_));
+        put("mouldWall", static_cast<double>(mouldWall_));
+        put("inHold", inHold_ ? 1 : 0);
+        std::string cols;
+        for (const auto& c : rec_.columns) {
+            if (!cols.empty()) cols += ' ';
+            cols += c;
+        }
+        kv.emplace_back("recColumns", cols.empty() ? "-" : cols);
+        for (const auto& row : rec_.rows) kv.emplace_back("recRow", joinNumbers(row));
+        for (const auto& h : holds_) {
+            kv.emplace_back("hold", joinNumbers({double(h.step), h.creep ? 1.0 : 0.0, h.labStart, h.labDuration, h.stressStart,
+                                                 h.stressEnd, h.strainStart, h.strainEnd, h.maxEkEp, h.fit.C, h.fit.t0,
+                                                 h.fit.rms, h.fit.ok ? 1.0 : 0.0}));
+            kv.emplace_back("holdT", joinNumbers(h.t));
+            kv.emplace_back("holdS", joinNumbers(h.s));
+        }
     }
     void loadDriverState(const std::vector<std::pair<std::string, std::string>>& kv) override {
+        rec_ = recording::Recording{};
+        holds_.clear();
         for (const auto& [k, v] : kv) {
-            if (k == "pistonZ") parseDouble(v, pistonZ_);
-            if (k == "pistonZ0") parseDouble(v, pistonZ0_);
-            if (k == "labTime") parseDouble(v, labTime_);
+            double x = 0;
+            const auto num = [&]() {
+                if (!parseDouble(v, x)) inputError("restart file: bad value of driver state '" + k + "'");
+                return x;
+            };
+            if (k == "pistonZ") pistonZ_ = num();
+            else if (k == "pistonZ0") pistonZ0_ = num();
+            else if (k == "pistonV") pistonV_ = num();
+            else if (k == "labTime") labTime_ = num();
+            else if (k == "labScale") labScale_ = num();
+            else if (k == "stepLabStart") stepLabStart_ = num();
+            else if (k == "rampStartStress") rampStartStress_ = num();
+            else if (k == "creepStress") creepStress_ = num();
+            else if (k == "solid") solid_ = num();
+            else if (k == "fillTime") fillTime_ = num();
+            else if (k == "maxInertial") maxInertial_ = num();
+            else if (k == "stepIndex") stepIndex_ = static_cast<std::size_t>(num());
+            else if (k == "pistonWall") pistonWall_ = static_cast<std::size_t>(num());
+            else if (k == "bottomWall") bottomWall_ = static_cast<std::size_t>(num());
+            else if (k == "mouldWall") mouldWall_ = static_cast<long>(num());
+            else if (k == "inHold") inHold_ = num() != 0;
+            else if (k == "recColumns") {
+                std::istringstream is(v);
+                for (std::string c; is >> c;)
+                    if (c != "-") rec_.columns.push_back(c);
+            } else if (k == "recRow") rec_.rows.push_back(splitNumbers(v, k));
+            else if (k == "hold") {
+                const std::vector<double> a = splitNumbers(v, k);
+                if (a.size() != 13) inputError("restart file: bad hold record");
+                HoldResult h;
+                h.step = static_cast<int>(a[0]);
+                h.creep = a[1] != 0;
+                h.labStart = a[2], h.labDuration = a[3], h.stressStart = a[4], h.stressEnd = a[5];
+                h.strainStart = a[6], h.strainEnd = a[7], h.maxEkEp = a[8];
+                h.fit.C = a[9], h.fit.t0 = a[10], h.fit.rms = a[11], h.fit.ok = a[12] != 0;
+                holds_.push_back(h);
+            } else if (k == "holdT" || k == "holdS") {
+                if (holds_.empty()) inputError("restart file: hold samples before their hold");
+                (k == "holdT" ? holds_.back().t : holds_.back().s) = splitNumbers(v, k);
+            }
         }
+        if (pistonWall_ >= walls().size() || bottomWall_ >= walls().size()) inputError("restart file: wall indices out of range");
     }
 
 private:
@@ -375,6 +481,25 @@ private:
                                                        [this](double) { return Vec3{0, 0, pistonV_}; }));
     }
     double pistonZ0Geometry() const { return pistonZ0_; }
+    static std::string joinNumbers(const std::vector<double>& v) {
+        std::string out;
+        for (double x : v) {
+            if (!out.empty()) out += ' ';
+            out += fmt(x);
+        }
+        return out.empty() ? "-" : out;
+    }
+    static std::vector<double> splitNumbers(const std::string& text, const std::string& key) {
+        std::vector<double> out;
+        if (text == "-") return out;
+        std::istringstream is(text);
+        for (std::string w; is >> w;) {
+            double x = 0;
+            if (!parseDouble(w, x)) inputError("restart file: bad number in driver state '" + key + "'");
+            out.push_back(x);
+        }
+        return out;
+    }
     double axialStress() const { return walls()[pistonWall_]->force.z / area(); }
     double bottomStress() const { return -walls()[bottomWall_]->force.z / area(); }
     void setLabScale(double s) {
@@ -422,7 +547,7 @@ private:
         inHold_ = false;
     }
     void record(bool force) {
-        (void)force;
+        if (force && !contactsAreCurrent()) refreshContacts();  // a step ended between record steps
         const double A = area();
         const double h = pistonZ_;
         const double sAx = axialStress();
@@ -533,7 +658,7 @@ private:
     double pistonZ_ = 0, pistonZ0_ = 0, pistonV_ = 0, labTime_ = 0, labScale_ = 0, stepLabStart_ = 0, creepStress_ = 1;
     double rampStartStress_ = 0;
     double solid_ = 0, fillTime_ = 0, maxInertial_ = 0, rMeanMass_ = 0;
-    bool inHold_ = false;
+    bool inHold_ = false, restarted_ = false;
     std::vector<HoldResult> holds_;
     recording::Recording rec_;
 };

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <tuple>
 
 #include "Core/Error.h"
 #include "Core/RunMain.h"
@@ -235,6 +236,8 @@ double DPMBase::outputInterval() const {
 void DPMBase::solve() {
     if (!prepared_) prepare(true);
     progress_ = std::make_unique<ProgressReporter>(quiet_);
+    progress_->setFractionSource([this] { return progressFraction(); });
+    progress_->setLabel(progressLabel_);
     actionsBeforeTimeLoop();
     const double every = outputEvery_ > 0 ? outputEvery_ : outputInterval();
     if (time_ >= nextOutput_ - 0.5 * dt_) {
@@ -244,9 +247,9 @@ void DPMBase::solve() {
     progress_->start(time_, timeMax_);
     bool lastWasOutput = true;
     while (time_ < timeMax_ - 0.5 * dt_ && continueSolve()) {
+        actionsBeforeTimeStep();  // may call requestContacts() for this step's force evaluation
         const bool record = recordRequested_ || (outputNeedsContacts() && time_ + dt_ >= nextOutput_ - 0.5 * dt_);
         recordRequested_ = false;
-        actionsBeforeTimeStep();
         const double maxDisplacement = integrateFirstHalf();
         time_ += dt_;
         for (auto& w : walls_) w->moveTo(time_);
@@ -410,8 +413,11 @@ void DPMBase::refreshContacts() {
     auto savedWallHistory = neighbours_.wallHistory;
     auto savedF = particles_.f;
     auto savedT = particles_.t;
+    std::vector<std::pair<Vec3, Vec3>> savedWall;
+    for (const auto& w : walls_) savedWall.emplace_back(w->force, w->torque);
     computeForces(true);
     gatherRecords();
+    for (std::size_t k = 0; k < walls_.size(); ++k) std::tie(walls_[k]->force, walls_[k]->torque) = savedWall[k];
     neighbours_.history = std::move(savedHistory);
     neighbours_.wallHistory = std::move(savedWallHistory);
     particles_.f = std::move(savedF);

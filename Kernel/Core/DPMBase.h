@@ -101,6 +101,8 @@ public:
     /// Switch off every output file (VTK, RUN.ene, RUN.fstat, RUN.restart): for internal runs
     /// (packing preparation) and benchmarks.
     void disableFileOutput();
+    /// Text in front of the progress line (default: empty; e.g. "filling: ").
+    void setProgressLabel(std::string label) { progressLabel_ = std::move(label); }
     void setQuiet(bool q) { quiet_ = q; }
     bool quiet() const { return quiet_; }
     std::mt19937_64& random() { return rng_; }
@@ -123,9 +125,11 @@ public:
     const std::vector<ContactRecord>& contacts() const { return contactsFlat_; }
     /// True if contacts() describes the current step (records were made during it).
     bool contactsAreCurrent() const { return lastStepRecorded_; }
-    /// Ask for contact records (and elastic energy) to be made during the next force evaluation.
+    /// Ask for contact records (and elastic energy) to be made during the next force evaluation:
+    /// called in actionsBeforeTimeStep() it applies to this step, in actionsAfterTimeStep() to the next.
     void requestContacts() { recordRequested_ = true; }
-    /// Recompute forces now at the current state with records (no time advance, histories untouched).
+    /// Recompute contact records and elastic energy now, at the current state (no time advance;
+    /// histories, particle forces/torques and wall forces are left as they were).
     void refreshContacts();
     /// Number of particle-particle pairs in contact now (no records made).
     std::size_t countContacts() const;
@@ -151,6 +155,10 @@ protected:
     virtual void actionsAfterTimeStep() {}
     virtual void actionsAfterSolve() {}
     virtual bool continueSolve() const { return true; }
+    /// Completed fraction of the run in [0, 1] for the progress line, for drivers whose end is not
+    /// time_max (a protocol that ends by itself); negative (the default) uses time / time_max.
+    /// Called at most once per printed progress line.
+    virtual double progressFraction() const { return -1; }
     /// Writes RUN.ene, the VTK snapshot, RUN.fstat and RUN.restart (each if enabled).
     virtual void writeOutputFiles();
     /// Columns of RUN.ene; override and call the base to append columns.
@@ -225,6 +233,7 @@ private:
     std::unique_ptr<std::ofstream> fstatStream_;
     double lastFiniteRestartTime_ = -1;
     std::unique_ptr<ProgressReporter> progress_;
+    std::string progressLabel_;
 };
 
 } // namespace pdpm

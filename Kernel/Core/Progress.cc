@@ -65,20 +65,25 @@ std::string ProgressReporter::formatDuration(double s) {
 std::string ProgressReporter::formatLine(double fraction, double t, double tEnd,
                                          double stepsPerSecond, double etaSeconds) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%5.1f%%  t = %.6g of %.6g s  %.4g steps/s  ETA %s",
-                  100.0 * std::clamp(std::isfinite(fraction) ? fraction : 0.0, 0.0, 1.0), t, tEnd,
-                  std::isfinite(stepsPerSecond) ? stepsPerSecond : 0.0,
-                  formatDuration(etaSeconds).c_str());
+    const double pct = 100.0 * std::clamp(std::isfinite(fraction) ? fraction : 0.0, 0.0, 1.0);
+    const double rate = std::isfinite(stepsPerSecond) ? stepsPerSecond : 0.0;
+    const std::string eta = formatDuration(etaSeconds);
+    if (tEnd > 0)
+        std::snprintf(buf, sizeof buf, "%5.1f%%  t = %.6g of %.6g s  %.4g steps/s  ETA %s", pct, t, tEnd, rate, eta.c_str());
+    else  // no fixed end time (fraction from the driver)
+        std::snprintf(buf, sizeof buf, "%5.1f%%  t = %.6g s  %.4g steps/s  ETA %s", pct, t, rate, eta.c_str());
     return buf;
 }
 
 void ProgressReporter::print(double t, long step, Clock::time_point now) {
     const double span = tEnd_ - tStart_;
-    const double fraction = span > 0 ? std::clamp((t - tStart_) / span, 0.0, 1.0) : 1.0;
+    double fraction = span > 0 ? std::clamp((t - tStart_) / span, 0.0, 1.0) : 1.0;
+    const double external = fractionSource_ ? fractionSource_() : -1.0;
+    if (external >= 0) fraction = std::min(external, 1.0);
     const double elapsed = seconds(now - startTime_);
     const double rate = elapsed > 0 ? static_cast<double>(step - startStep_) / elapsed : 0.0;
     const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : -1.0;
-    const std::string line = formatLine(fraction, t, tEnd_, rate, eta);
+    const std::string line = label_ + formatLine(fraction, t, external >= 0 ? 0.0 : tEnd_, rate, eta);
     if (interactive_) {
         os_ << '\r' << line;
         if (line.size() < lastLength_) os_ << std::string(lastLength_ - line.size(), ' ');
@@ -95,14 +100,20 @@ void ProgressReporter::finish(long step) {
     if (quiet_ || !started_) return;
     const auto now = Clock::now();
     const double span = tEnd_ - tStart_;
-    const double fraction = span > 0 ? std::clamp((lastT_ - tStart_) / span, 0.0, 1.0) : 1.0;
+    double fraction = span > 0 ? std::clamp((lastT_ - tStart_) / span, 0.0, 1.0) : 1.0;
+    const double external = fractionSource_ ? fractionSource_() : -1.0;
+    if (external >= 0) fraction = std::min(external, 1.0);
     const double elapsed = seconds(now - startTime_);
     const long first = startStep_ < 0 ? step : startStep_;
     const double rate = elapsed > 0 ? static_cast<double>(step - first) / elapsed : 0.0;
     char buf[200];
-    std::snprintf(buf, sizeof buf, "%5.1f%%  t = %.6g of %.6g s  %ld steps in %s (%.4g steps/s)",
-                  100.0 * fraction, lastT_, tEnd_, step - first, formatDuration(elapsed).c_str(), rate);
-    const std::string line = buf;
+    if (external >= 0)
+        std::snprintf(buf, sizeof buf, "%5.1f%%  t = %.6g s  %ld steps in %s (%.4g steps/s)", 100.0 * fraction, lastT_,
+                      step - first, formatDuration(elapsed).c_str(), rate);
+    else
+        std::snprintf(buf, sizeof buf, "%5.1f%%  t = %.6g of %.6g s  %ld steps in %s (%.4g steps/s)", 100.0 * fraction,
+                      lastT_, tEnd_, step - first, formatDuration(elapsed).c_str(), rate);
+    const std::string line = label_ + buf;
     if (interactive_) {
         os_ << '\r' << line;
         if (line.size() < lastLength_) os_ << std::string(lastLength_ - line.size(), ' ');

@@ -5,6 +5,7 @@
 // to call every time step: it reads the clock only every 64 calls.
 #pragma once
 #include <chrono>
+#include <functional>
 #include <iostream>
 #include <string>
 
@@ -29,6 +30,13 @@ public:
     void setInterval(double seconds) { interval_ = seconds; intervalSet_ = true; }
     /// Check the clock every `n` calls of update() (default 64; 1 in tests).
     void setCheckEvery(int n) { checkEvery_ = n < 1 ? 1 : n; }
+
+    /// Optional source of the completed fraction (read only when a line is printed). A driver
+    /// whose end is not a fixed time (a protocol of ramps and holds) reports its own progress;
+    /// a negative value falls back to the time fraction.
+    void setFractionSource(std::function<double()> source) { fractionSource_ = std::move(source); }
+    /// Text printed in front of every line (e.g. the run name); empty by default.
+    void setLabel(std::string label) { label_ = std::move(label); }
 
     /// Number of lines/refreshes printed so far (for tests).
     long printed() const { return printed_; }
@@ -58,6 +66,8 @@ private:
     Clock::time_point lastPrint_{};
     long printed_ = 0;
     std::size_t lastLength_ = 0;
+    std::function<double()> fractionSource_;
+    std::string label_;
     bool started_ = false;
 };
 

@@ -1,0 +1,116 @@
+// OedometerRelaxation protocol steps other than ramp + hold, on small beds:
+//  1. Load - unload - reload - creep (laterally periodic, frictional, relaxation on):
+//     the unload ends at its target stress with the piston moved back up but a residual strain left;
+//     the reload reaches its target again; during the creep step (constant applied stress) the stress
+//     stays within 3 % of the creep stress while the strain grows (relaxing contacts creep).
+//  2. Restart: the same protocol stopped half-way (--time_max) and resumed from RUN.restart writes a
+//     recording byte-identical to the straight run's.
+//  3. Cylindrical mould with wall friction: the mould wall carries part of the load (bottom stress
+//     below piston stress plus the bed's weight) but no more than Janssen's fully mobilised share,
+//     and the lateral stress on the mould is positive and below the axial stress.
+#include <cmath>
+#include <numbers>
+
+#include "IO/AtomicFile.h"
+#include "OedometerSelfTestCommon.h"
+
+using namespace pdpm;
+using oedometer_selftest::check;
+
+namespace {
+
+double columnAt(const recording::Recording& rec, const std::string& name, std::size_t row) {
+    const int c = rec.column(name);
+    return c < 0 ? std::nan("") : rec.rows[row][static_cast<std::size_t>(c)];
+}
+
+/// Last row of protocol step `step` (-1 if none).
+long lastRowOfStep(const recording::Recording& rec, int step) {
+    long last = -1;
+    for (std::size_t r = 0; r < rec.rows.size(); ++r)
+        if (static_cast<int>(columnAt(rec, "step", r)) == step) last = static_cast<long>(r);
+    return last;
+}
+
+} // namespace
+
+int main() {
+    bool ok = true;
+    const std::vector<std::string> common = {"--material", "frictional", "--width", "4", "--fill_height", "5",
+                                             "--steps", "ramp:5e-5:4000,unload:5e-5:1000,ramp:5e-5:4000,creep:200",
+                                             "--relax_C", "0.0792", "--relax_t0", "0.2894", "--quiet", "--threads", "1"};
+    double demEnd = 0;
+    {
+        OedometerRelaxation d;
+        auto args = common;
+        args.insert(args.end(), {"--name", "cycle", "--restart_output", "1"});
+        ok &= check(oedometer_selftest::runDriver(d, args) == 0, "load-unload-reload-creep run");
+        const auto& rec = d.recordingData();
+        const long r0 = lastRowOfStep(rec, 0), r1 = lastRowOfStep(rec, 1), r2 = lastRowOfStep(rec, 2);
+        ok &= check(r0 >= 0 && r1 > r0 && r2 > r1, "all four steps recorded");
+        if (r0 >= 0 && r1 > r0 && r2 > r1) {
+            const double e0 = columnAt(rec, "axial_strain", r0), e1 = columnAt(rec, "axial_strain", r1);
+            const double s1 = columnAt(rec, "axial_stress_Pa", r1), s2 = columnAt(rec, "axial_stress_Pa", r2);
+            std::printf("     peak strain %.4g, after unload %.4g at %.4g Pa, reload %.4g Pa\n", e0, e1, s1, s2);
+            ok &= check(s1 <= 1000 && s1 > 0, "unload ends at its target stress (<= 1 kPa, still in contact)");
+            ok &= check(e1 < e0, "the piston moved back up during the unload");
+            ok &= check(e1 > 0.2 * e0, "a residual strain remains after unloading");
+            ok &= check(s2 >= 4000, "the reload reaches its target");
+        }
+        ok &= check(d.holds().size() == 1 && d.holds()[0].creep, "one creep step");
+        if (d.holds().size() == 1) {
+            const auto& h = d.holds()[0];
+            double worst = 0;
+            // after the first 10 % of the step (the stress controller settles)
+            for (std::size_t k = 0; k < h.t.size(); ++k)
+                if (h.t[k] - h.labStart > 0.1 * h.labDuration) worst = std::max(worst, std::abs(h.s[k] / h.stressStart - 1));
+            std::printf("     creep: stress %.6g -> %.6g Pa (largest deviation %.3g %%), strain %.6g -> %.6g\n",
+                        h.stressStart, h.stressEnd, 100 * worst, h.strainStart, h.strainEnd);
+            ok &= check(worst < 0.03, "creep holds the stress within 3 %");
+            ok &= check(h.strainEnd > h.strainStart, "the bed creeps (strain grows at constant stress)");
+        }
+        demEnd = d.time();
+    }
+    {
+        // Stop half-way (DEM time), then resume from the restart file.
+        OedometerRelaxation a;
+        auto args = common;
+        args.insert(args.end(), {"--name", "part", "--restart_output", "1", "--time_max", fmt(0.5 * demEnd)});
+        ok &= check(oedometer_selftest::runDriver(a, args) == 0, "first half");
+        OedometerRelaxation b;
+        ok &= check(oedometer_selftest::runDriver(b, {"--restart", "part.restart", "--name", "part", "--time_max", "1e30", "--quiet"}) == 0,
+                    "resumed from part.restart");
+        const std::string straight = readWholeFile("cycle.recording.csv"), resumed = readWholeFile("part.recording.csv");
+        ok &= check(!straight.empty() && straight == resumed, "restarted recording is byte-identical to the straight run's");
+    }
+    {
+        OedometerRelaxation d;
+        ok &= check(oedometer_selftest::runDriver(d, {"--geometry", "cylinder", "--diameter", "0.02", "--fill_height_m", "0.015",
+                                                      "--wall_friction", "0.5", "--material", "frictional", "--relax_C", "0",
+                                                      "--steps", "ramp:5e-5:3000,hold:10", "--name", "mould", "--quiet",
+                                                      "--threads", "1"}) == 0,
+                    "cylindrical mould run");
+        const auto& rec = d.recordingData();
+        const long r = lastRowOfStep(rec, 0);
+        if (r >= 0) {
+            const double top = columnAt(rec, "axial_stress_Pa", r), bottom = columnAt(rec, "bottom_stress_Pa", r);
+            const double lateral = columnAt(rec, "lateral_stress_Pa", r), h = columnAt(rec, "piston_position_m", r);
+            const double D = 0.02, A = 0.25 * std::numbers::pi * D * D;
+            double weight = 0;
+            for (double m : d.particles().m) weight += 9.81 * m;
+            // Load balance: piston + weight = bottom + mould friction. The mould's share cannot exceed
+            // Janssen's fully mobilised value 1 - exp(-4 mu_w K h / D) with K = lateral / axial.
+            const double load = top + weight / A, share = 1 - bottom / load;
+            const double janssen = 1 - std::exp(-4 * 0.5 * (lateral / top) * h / D);
+            std::printf("     mould: piston %.5g Pa, bottom %.5g Pa, weight %.4g Pa, lateral %.5g Pa (K = %.3g); mould carries "
+                        "%.3g %% of the load (Janssen limit %.3g %%)\n",
+                        top, bottom, weight / A, lateral, lateral / top, 100 * share, 100 * janssen);
+            ok &= check(share > 0.03, "wall friction: the mould carries part of the load (bottom < piston + weight)");
+            ok &= check(share < janssen, "the mould's share stays below Janssen's fully mobilised limit");
+            ok &= check(lateral > 0 && lateral < top, "lateral stress positive and below the axial stress");
+        } else {
+            ok &= check(false, "ramp recorded");
+        }
+    }
+    return ok ? 0 : 1;
+}
