@@ -4,8 +4,9 @@
 //
 // Run: fill (separate settling simulation, then levelled at the fill height: the FT4 "split"),
 // then the protocol steps one after the other. The relaxation physics runs on a lab clock:
-// lab time advances by dt * S per DEM step with S = time_scale during holds and
-// S = (DEM piston speed)/(lab piston speed) during ramps, so the recording's time axis is lab time.
+// lab time advances by dt * S per DEM step with S = (t0 + t_hold)/hold_tau during holds (log clock;
+// or S = time_scale, linear clock) and S = (DEM piston speed)/(lab piston speed) during ramps, so the
+// recording's time axis is lab time.
 // Header-only so that the self-tests can run the driver in-process.
 #pragma once
 #include <algorithm>
@@ -24,6 +25,7 @@
 #include "IO/Json.h"
 #include "IO/NumberFormat.h"
 #include "Particles/Insertion.h"
+#include "Particles/PourSimulation.h"
 #include "Recording.h"
 
 namespace pdpm {
@@ -67,30 +69,6 @@ inline OedometerMaterial oedometerMaterial(const std::string& name, double muWal
     return m;
 }
 
-/// Settling simulation used to fill the mould (poured under gravity onto the bottom).
-class OedometerFill : public DPMBase {
-public:
-    OedometerFill() : DPMBase("OedometerFill") {
-        parameters().set("vtk", "0");
-        parameters().set("restart_output", "0");
-        parameters().set("ene", "0");
-        setQuiet(true);
-    }
-    double settleLimit = 1, ekRatio = 1e-3;
-    Vec3 g{0, 0, -9.81};
-    double potentialScale = 0;
-
-protected:
-    bool continueSolve() const override {
-        if (time() < minTime) return true;
-        // kinetic energy small compared with the potential energy of a particle diameter drop
-        return kineticEnergy() > ekRatio * potentialScale && time() < settleLimit;
-    }
-
-public:
-    double minTime = 0;
-};
-
 class OedometerRelaxation : public DPMBase {
 public:
     OedometerRelaxation() : DPMBase("OedometerRelaxation", "Oedometric compression with relaxation (constant position) and creep (constant stress) holds") {
@@ -112,7 +90,11 @@ public:
         p.add("protocol_file", &protocolFile_, "", "JSON protocol file (recording format); overrides --steps");
         p.add("max_stress", &maxStress_, 25e3, "Pa", "cap of the preset target stresses (FT4: 22 kPa)", Range::positive());
         p.add("stress_scale", &stressScale_, 1, "-", "multiplies preset target stresses (small tests)", Range::positive());
-        p.add("time_scale", &timeScale_, 2e3, "lab s / DEM s", "time scaling of holds (lab seconds per DEM second)", Range::positive());
+        p.add("hold_clock", &holdClock_, "log", "lab clock of holds: log (lab time grows exponentially, S = (t0 + t)/hold_tau) or linear (S = time_scale)", {"log", "linear"});
+        p.add("hold_tau", &holdTau_, 0.02, "s", "log hold clock: DEM seconds per e-fold of (relax_t0 + lab time in the hold)", Range::positive());
+        p.add("hold_settle", &holdSettle_, 1e-4, "-", "a hold's clock starts once E_k/E_p <= this (mechanical settling is instantaneous in lab time; 0: at once)", Range::nonNegative());
+        p.add("hold_settle_max", &holdSettleMax_, 0.05, "s", "longest DEM time a hold waits for settling", Range::nonNegative());
+        p.add("time_scale", &timeScale_, 2e3, "lab s / DEM s", "linear hold clock: lab seconds per DEM second", Range::positive());
         p.add("ramp_rate", &rampRate_, 0.5, "1/s", "DEM axial strain rate of ramps and unloads", Range::positive());
         p.add("approach", &approach_, 0.2, "-", "ramps slow down over this fraction of the target stress", Range::openClosed(0, 1));
         p.add("record_every", &recordEvery_, 100L, "steps", "DEM steps between recorded samples", Range::atLeast(1));
@@ -136,7 +118,8 @@ public:
         bool creep = false;
         double labStart = 0, labDuration = 0;
         double stressStart = 0, stressEnd = 0, strainStart = 0, strainEnd = 0;
-        double maxEkEp = 0;
+        double maxEkEp = 0, settleDem = 0;  ///< settleDem: DEM seconds waited before the clock started
+        long samples = 0, samplesAbove = 0;  ///< hold samples, and those with E_k/E_p > 1e-4
         recording::RelaxationFit fit;
         std::vector<double> t, s;  // lab time, axial stress samples of the hold
     };
@@ -182,55 +165,43 @@ protected:
         double lx = width_ * dMean_;
         double R = 0.5 * diameter_;
         if (cylinder()) lx = diameter_;
-        // Particle count: a poured cohesive bed is loose; estimate fraction 0.4 plus 30 % to remove at levelling.
+        // Particle count: a settled polydisperse bed reaches a volume fraction of about 0.6; pour 25 %
+        // more so that the levelling at H (the split) has something to remove.
         const double meanR3 = (std::pow(rMax, 4) - std::pow(rMin, 4)) / (4 * (rMax - rMin));
         const double vp = 4.0 / 3.0 * std::numbers::pi * meanR3;
         const double a = cylinder() ? std::numbers::pi * R * R : lx * lx;
-        const auto n = static_cast<std::size_t>(std::ceil(1.3 * 0.4 * a * H / vp));
+        const auto n = static_cast<std::size_t>(std::ceil(1.25 * 0.6 * a * H / vp));
         auto radii = uniformRadii(n, rMin, rMax, random());
 
         // ---- fill: grid in a tall column, settle under gravity ------------------------------------
         // Settling without adhesion (a dense, reproducible start, like the FT4 conditioning), no relaxation.
-        OedometerFill fill;
+        PourSimulation fill(runName() + "_fill");
         fill.setQuiet(quiet());
-        fill.setProgressLabel("filling: ");
         setupSpecies(fill, 0, true);
-        const double s = 2.05 * rMax;
-        const int nxy = std::max(1, static_cast<int>(std::floor(lx / s)));
+        // staggered grid in a tall column (no vertical stacks), clipped to the mould
+        const double s = 2.05 * rMax, off = cylinder() ? -R : 0;
+        const int nxy = std::max(1, static_cast<int>(std::floor(lx / s - (cylinder() ? 0 : 0.5))));
         std::vector<Vec3> pts;
-        const double off = cylinder() ? -R : 0;
-        std::size_t placed = 0;
-        for (int layer = 0; placed < n; ++layer) {
-            for (int ix = 0; ix < nxy && placed < n; ++ix)
-                for (int iy = 0; iy < nxy && placed < n; ++iy) {
-                    const double sh = (layer % 2) * 0.5 * s;  // staggered layers: no vertical stacks
-                    const Vec3 x{off + (ix + 0.5) * s + sh, off + (iy + 0.5) * s + sh, (layer + 0.5) * s};
-                    if (!cylinder() && (x.x > lx - 0.5 * s + 1e-12 || x.y > lx - 0.5 * s + 1e-12) && nxy * s > lx - 0.5 * s) continue;
-                    if (cylinder() && std::hypot(x.x, x.y) > R - 1.02 * rMax) continue;
-                    pts.push_back(x);
-                    ++placed;
-                }
+        for (int layer = 0; pts.size() < n; ++layer) {
             if (layer > 100000) inputError("mould too narrow for the particles");
+            const double sh = (layer % 2) * 0.5 * s;
+            for (int ix = 0; ix < nxy; ++ix)
+                for (int iy = 0; iy < nxy && pts.size() < n; ++iy) {
+                    const Vec3 x{off + (ix + 0.5) * s + sh, off + (iy + 0.5) * s + sh, (layer + 0.5) * s};
+                    if (!cylinder() || std::hypot(x.x, x.y) <= R - 1.02 * rMax) pts.push_back(x);
+                }
         }
-        const double colTop = pts.back().z + s;
-        setDomainFor(fill, lx, R, colTop + s);
+        setDomainFor(fill, lx, R, pts.back().z + 2 * s);
         fill.addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, 1));
         if (cylinder()) fill.addWall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, R, 0.0, 1));
+        std::shuffle(radii.begin(), radii.end(), random());  // uniformRadii sorts them: mix the sizes
         std::uniform_real_distribution<double> U(-1, 1);
         for (std::size_t k = 0; k < n; ++k)
             fill.addParticle(pts[k], radii[k], 0, Vec3{0.2 * U(random()), 0.2 * U(random()), -0.2});
         fill.setGravity({0, 0, -9.81});
-        const double mMean = mat_.density * vp;
-        const double tc = fill.minCollisionTime();
-        fill.setTimeStep(tc / dtFraction_);
-        fill.setBackgroundDamping(mMean / (500 * tc), 0.0);  // terminal velocity ~ 0.5 m/s
-        fill.minTime = 1.2 * std::sqrt(2 * colTop / 9.81);
-        fill.settleLimit = fill.minTime + 0.5;
-        fill.potentialScale = static_cast<double>(n) * mMean * 9.81 * dMean_;
-        fill.setTimeMax(fill.settleLimit);
-        fill.setSaveEvery(fill.settleLimit);
+        fill.setTimeStep(fill.minCollisionTime() / dtFraction_);
         fill.setOutput(commonOptions().output, runName() + "_fill");
-        fill.solve();
+        fill.pour();
         fillTime_ = fill.time();
 
         // ---- level at H (the FT4 "split") and set up the main simulation ---------------------------
@@ -263,7 +234,6 @@ protected:
         setTimeStep(minCollisionTime() / dtFraction_);
         setTimeMax(1e30);
         setSaveEvery(1e30);
-        rMeanMass_ = mMean;
     }
 
     void actionsOnRestart() override {
@@ -301,7 +271,12 @@ protected:
                 break;
             }
             case recording::Step::Kind::HoldPosition:
-            case recording::Step::Kind::HoldStress: inner = st.duration > 0 ? (labTime_ - stepLabStart_) / st.duration : 1; break;
+            case recording::Step::Kind::HoldStress: {
+                const double t = labTime_ - stepLabStart_;
+                if (holdClock_ == "linear") inner = st.duration > 0 ? t / st.duration : 1;
+                else inner = std::log1p(t / relaxT0_) / std::log1p(st.duration / relaxT0_);  // DEM time fraction
+                break;
+            }
         }
         return (static_cast<double>(stepIndex_) + std::clamp(inner, 0.0, 1.0)) / static_cast<double>(steps_.size());
     }
@@ -327,8 +302,12 @@ protected:
                 setLabScale(std::abs(v) / st.velocity);
                 break;
             }
-            case recording::Step::Kind::HoldPosition: v = 0; break;
+            case recording::Step::Kind::HoldPosition:
+                v = 0;
+                setLabScale(settling_ ? 0.0 : holdScale());
+                break;
             case recording::Step::Kind::HoldStress: {
+                setLabScale(settling_ ? 0.0 : holdScale());
                 const double err = (creepStress_ - axialStress()) / creepStress_;
                 v = -vRamp * std::clamp(5 * err, -1.0, 1.0);
                 break;
@@ -372,9 +351,11 @@ protected:
         std::cout << "OedometerRelaxation: " << rec_.rows.size() << " samples, lab time " << fmt(labTime_)
                   << " s, max inertial number during ramps " << fmt(maxInertial_) << "\n";
         for (const auto& hr : holds_)
-            std::printf("  step %d %s: stress %.6g -> %.6g Pa (drop %.4g %%), max Ek/Ep %.3g, fit C = %.4g, t0 = %.4g s (rms %.2g)\n",
+            std::printf("  step %d %s: stress %.6g -> %.6g Pa (drop %.4g %%), max Ek/Ep %.3g (%.3g %% of samples above 1e-4), "
+                        "fit C = %.4g, t0 = %.4g s (rms %.2g)\n",
                         hr.step, hr.creep ? "creep" : "hold", hr.stressStart, hr.stressEnd,
-                        100 * (1 - hr.stressEnd / hr.stressStart), hr.maxEkEp, hr.fit.C, hr.fit.t0, hr.fit.rms);
+                        100 * (1 - hr.stressEnd / hr.stressStart), hr.maxEkEp,
+                        hr.samples > 0 ? 100.0 * double(hr.samplesAbove) / double(hr.samples) : 0.0, hr.fit.C, hr.fit.t0, hr.fit.rms);
     }
 
     // Restart: the driver's whole state, including the recording and hold curves gathered so far,
@@ -397,6 +378,8 @@ protected:
         put("bottomWall", static_cast<double>(bottomWall_));
         put("mouldWall", static_cast<double>(mouldWall_));
         put("inHold", inHold_ ? 1 : 0);
+        put("settling", settling_ ? 1 : 0);
+        put("settleStart", settleStart_);
         std::string cols;
         for (const auto& c : rec_.columns) {
             if (!cols.empty()) cols += ' ';
@@ -407,7 +390,7 @@ protected:
         for (const auto& h : holds_) {
             kv.emplace_back("hold", joinNumbers({double(h.step), h.creep ? 1.0 : 0.0, h.labStart, h.labDuration, h.stressStart,
                                                  h.stressEnd, h.strainStart, h.strainEnd, h.maxEkEp, h.fit.C, h.fit.t0,
-                                                 h.fit.rms, h.fit.ok ? 1.0 : 0.0}));
+                                                 h.fit.rms, h.fit.ok ? 1.0 : 0.0, double(h.samples), double(h.samplesAbove), h.settleDem}));
             kv.emplace_back("holdT", joinNumbers(h.t));
             kv.emplace_back("holdS", joinNumbers(h.s));
         }
@@ -437,6 +420,8 @@ protected:
             else if (k == "bottomWall") bottomWall_ = static_cast<std::size_t>(num());
             else if (k == "mouldWall") mouldWall_ = static_cast<long>(num());
             else if (k == "inHold") inHold_ = num() != 0;
+            else if (k == "settling") settling_ = num() != 0;
+            else if (k == "settleStart") settleStart_ = num();
             else if (k == "recColumns") {
                 std::istringstream is(v);
                 for (std::string c; is >> c;)
@@ -444,13 +429,14 @@ protected:
             } else if (k == "recRow") rec_.rows.push_back(splitNumbers(v, k));
             else if (k == "hold") {
                 const std::vector<double> a = splitNumbers(v, k);
-                if (a.size() != 13) inputError("restart file: bad hold record");
+                if (a.size() != 16) inputError("restart file: bad hold record");
                 HoldResult h;
                 h.step = static_cast<int>(a[0]);
                 h.creep = a[1] != 0;
                 h.labStart = a[2], h.labDuration = a[3], h.stressStart = a[4], h.stressEnd = a[5];
                 h.strainStart = a[6], h.strainEnd = a[7], h.maxEkEp = a[8];
                 h.fit.C = a[9], h.fit.t0 = a[10], h.fit.rms = a[11], h.fit.ok = a[12] != 0;
+                h.samples = static_cast<long>(a[13]), h.samplesAbove = static_cast<long>(a[14]), h.settleDem = a[15];
                 holds_.push_back(h);
             } else if (k == "holdT" || k == "holdS") {
                 if (holds_.empty()) inputError("restart file: hold samples before their hold");
@@ -481,6 +467,14 @@ private:
                                                        [this](double) { return Vec3{0, 0, pistonV_}; }));
     }
     double pistonZ0Geometry() const { return pistonZ0_; }
+    /// Lab seconds per DEM second during a hold. Log clock: S = (t0 + t)/tau, t = lab time since the
+    /// hold began, so that the relaxation rate C/(t0 + t) per lab second becomes C/tau per DEM second,
+    /// constant: the hold is as quasi-static at its start as at its end, and a hold of T lab seconds
+    /// costs tau ln(1 + T/t0) DEM seconds. Linear clock: S = time_scale.
+    double holdScale() const {
+        if (holdClock_ == "linear") return timeScale_;
+        return (relaxT0_ + (labTime_ - stepLabStart_)) / holdTau_;
+    }
     static std::string joinNumbers(const std::vector<double>& v) {
         std::string out;
         for (double x : v) {
@@ -516,9 +510,9 @@ private:
         switch (st.kind) {
             case recording::Step::Kind::Ramp:
             case recording::Step::Kind::Unload: setLabScale(vRamp / st.velocity); break;
-            case recording::Step::Kind::HoldPosition: setLabScale(timeScale_); break;
+            case recording::Step::Kind::HoldPosition: setLabScale(0); break;
             case recording::Step::Kind::HoldStress:
-                setLabScale(timeScale_);
+                setLabScale(0);
                 creepStress_ = st.stress >= 0 ? st.stress : std::max(axialStress(), 1.0);
                 break;
         }
@@ -526,19 +520,30 @@ private:
             HoldResult hr;
             hr.step = static_cast<int>(k);
             hr.creep = st.kind == recording::Step::Kind::HoldStress;
-            hr.labStart = labTime_;
-            hr.stressStart = axialStress();
-            hr.strainStart = (pistonZ0_ - pistonZ_) / pistonZ0_;
-            hr.t.push_back(labTime_);
-            hr.s.push_back(hr.stressStart);
             holds_.push_back(hr);
             inHold_ = true;
+            settling_ = true;
+            settleStart_ = time();
+            if (holdSettle_ <= 0) startHoldClock();
         } else {
             inHold_ = false;
+            settling_ = false;
         }
+    }
+    /// The hold's clock starts (after the mechanical settling): Eq. 4.3's f_max is the stress now.
+    void startHoldClock() {
+        HoldResult& hr = holds_.back();
+        settling_ = false;
+        hr.settleDem = time() - settleStart_;
+        hr.labStart = labTime_;
+        hr.stressStart = axialStress();
+        hr.strainStart = (pistonZ0_ - pistonZ_) / pistonZ0_;
+        hr.t.assign(1, labTime_);
+        hr.s.assign(1, hr.stressStart);
     }
     void finishStep() {
         if (!inHold_) return;
+        if (settling_) startHoldClock();
         HoldResult& hr = holds_.back();
         hr.labDuration = labTime_ - hr.labStart;
         hr.stressEnd = axialStress();
@@ -574,14 +579,19 @@ private:
             inertial = std::abs(pistonV_) / h * dMean_ * std::sqrt(mat_.density / sAx);
             if (!inHold_ && (steps_[stepIndex_].kind == recording::Step::Kind::Ramp)) maxInertial_ = std::max(maxInertial_, inertial);
         }
-        if (inHold_) {
+        if (inHold_ && settling_ && (ratio <= holdSettle_ || time() - settleStart_ >= holdSettleMax_)) startHoldClock();
+        if (inHold_ && !settling_) {
             HoldResult& hr = holds_.back();
             hr.maxEkEp = std::max(hr.maxEkEp, ratio);
+            ++hr.samples;
+            if (ratio > 1e-4) ++hr.samplesAbove;
             if (labTime_ > hr.t.back()) {
                 hr.t.push_back(labTime_);
                 hr.s.push_back(sAx);
             }
         }
+        // one row per lab time (time_s strictly increasing): while the clock stands still (settling at
+        // the start of a hold) no rows are added
         if (!rec_.rows.empty() && !(labTime_ > rec_.rows.back()[0])) return;
         if (rec_.columns.empty())
             rec_.columns = {"time_s", "step", "piston_position_m", "axial_strain", "axial_stress_Pa", "bottom_stress_Pa",
@@ -594,7 +604,9 @@ private:
         rec_.comments = {"PowderDPM OedometerRelaxation recording (Documentation/recording-format.md)",
                          "source: simulation; time_s is lab time; dem_time_s is simulation time",
                          "particles: " + std::to_string(particles().size()) + "; relax_C " + fmt(relaxC_) + "; relax_t0 " +
-                             fmt(relaxT0_) + " s; time_scale " + fmt(timeScale_) + " lab s per DEM s"};
+                             fmt(relaxT0_) + " s; hold clock " +
+                             (holdClock_ == "linear" ? "linear, " + fmt(timeScale_) + " lab s per DEM s"
+                                                     : "log, (t0 + t)/" + fmt(holdTau_) + " lab s per DEM s")};
         recording::writeRecording(outputPath(".recording.csv"), rec_);
         recording::Protocol p;
         p.source = "simulation";
@@ -620,7 +632,9 @@ private:
         extra.set("particles", static_cast<double>(particles().size()));
         extra.set("geometry", geometry_);
         extra.set("lateral_period_m", cylinder() ? 0.0 : box().length().x);
-        extra.set("time_scale_hold_lab_s_per_dem_s", timeScale_);
+        extra.set("hold_clock", holdClock_);
+        if (holdClock_ == "linear") extra.set("time_scale_hold_lab_s_per_dem_s", timeScale_);
+        else extra.set("hold_tau_dem_s", holdTau_);
         extra.set("ramp_dem_strain_rate_1_s", rampRate_);
         extra.set("dt_s", timeStep());
         extra.set("max_inertial_number_ramps", maxInertial_);
@@ -633,7 +647,9 @@ private:
                                   {"stress_end_Pa", hr.stressEnd},
                                   {"strain_start", hr.strainStart},
                                   {"strain_end", hr.strainEnd},
+                                  {"settle_dem_s", hr.settleDem},
                                   {"max_Ek_over_Ep", hr.maxEkEp},
+                                  {"fraction_Ek_over_Ep_above_1e-4", hr.samples > 0 ? double(hr.samplesAbove) / double(hr.samples) : 0.0},
                                   {"fit_C", hr.fit.C},
                                   {"fit_t0_s", hr.fit.t0},
                                   {"fit_rms", hr.fit.rms}}));
@@ -644,9 +660,9 @@ private:
     }
 
     // parameters
-    std::string geometry_, device_, material_, stepsText_, protocolFile_;
+    std::string geometry_, device_, material_, stepsText_, protocolFile_, holdClock_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0, relaxC_ = 0, relaxT0_ = 0;
-    double approach_ = 0.2, maxStress_ = 0, stressScale_ = 1, timeScale_ = 0, rampRate_ = 0, dtFraction_ = 25, maxStrain_ = 0.5;
+    double holdTau_ = 0.02, approach_ = 0.2, maxStress_ = 0, stressScale_ = 1, timeScale_ = 0, rampRate_ = 0, dtFraction_ = 25, maxStrain_ = 0.5;
     int protocolPreset_ = 0;
     long recordEvery_ = 100;
     bool gravityOn_ = true;
@@ -657,8 +673,9 @@ private:
     long mouldWall_ = -1;
     double pistonZ_ = 0, pistonZ0_ = 0, pistonV_ = 0, labTime_ = 0, labScale_ = 0, stepLabStart_ = 0, creepStress_ = 1;
     double rampStartStress_ = 0;
-    double solid_ = 0, fillTime_ = 0, maxInertial_ = 0, rMeanMass_ = 0;
-    bool inHold_ = false, restarted_ = false;
+    double solid_ = 0, fillTime_ = 0, maxInertial_ = 0;
+    bool inHold_ = false, restarted_ = false, settling_ = false;
+    double holdSettle_ = 1e-4, holdSettleMax_ = 0.05, settleStart_ = 0;
     std::vector<HoldResult> holds_;
     recording::Recording rec_;
 };

@@ -39,6 +39,8 @@ void Wall::write(std::ostream& os) const {
     writeGeometry(os);
     os << ' ' << fmt(offset_) << ' ' << fmt(velocity_) << ' ';
     motion_.write(os, offset_);
+    // the reaction of the last step: drivers read it (e.g. a stress servo) before the next force evaluation
+    os << ' ' << fmt(force) << ' ' << fmt(torque);
 }
 
 std::unique_ptr<Wall> Wall::read(std::istream& is) {
@@ -54,6 +56,8 @@ std::unique_ptr<Wall> Wall::read(std::istream& is) {
     w->offset_ = readVec3(is);
     w->velocity_ = readVec3(is);
     w->motion_ = WallMotion::read(is);
+    w->force = readVec3(is);
+    w->torque = readVec3(is);
     if (!is) inputError("restart: malformed wall record of type " + t);
     return w;
 }

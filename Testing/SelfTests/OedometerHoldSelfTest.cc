@@ -4,7 +4,8 @@
 //     value, and the run is quasi-static (Ek/Ep <= 1e-4 at the end of the hold);
 //  2. relaxation on (C = 0.0792, t0 = 0.2894 s, Table 4.4 R1 lambdameter): the stress decays, the
 //     fitted macroscopic C of Eq. 4.3 is within 30 % of the contact C, and the decay is at least
-//     half of the contact-level prediction 1 - (1 + 300/t0)^(-C).
+//     half of the contact-level prediction 1 - (1 + 300/t0)^(-C), and E_k/E_p <= 1e-4 in at least
+//     95 % of the hold samples (isolated rearrangement events excepted).
 // Also: the written recording and protocol files pass the format validator.
 #include <cmath>
 
@@ -54,6 +55,12 @@ int main() {
             ok &= check(drop > 0.5 * predicted, "stress decays by at least half the contact-level prediction");
             ok &= check(h.fit.ok && std::abs(h.fit.C - C) < 0.3 * C, "fitted macroscopic C within 30 % of the contact C");
             ok &= check(h.fit.rms < 0.02, "Eq. 4.3 describes the hold curve (rms < 0.02)");
+            const double above = h.samples > 0 ? double(h.samplesAbove) / double(h.samples) : 1.0;
+            std::printf("     max Ek/Ep during the hold %.3g, %.3g %% of %ld samples above 1e-4\n", h.maxEkEp, 100 * above, h.samples);
+            // Isolated rearrangement events (a force chain giving way as contacts relax, a rattler
+            // dropping through a pore under gravity) raise E_k/E_p for a short DEM time that does not
+            // depend on the hold clock; the rest of the hold must be quiet.
+            ok &= check(h.samples > 100 && above <= 0.05, "quasi-static during the relaxing hold (Ek/Ep <= 1e-4 in >= 95 % of samples)");
         } else {
             ok &= check(false, "one hold");
         }

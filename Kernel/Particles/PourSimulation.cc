@@ -1,0 +1,60 @@
+#include "Particles/PourSimulation.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pdpm {
+
+PourSimulation::PourSimulation(const std::string& name) : DPMBase(name) {
+    parameters().set("vtk", "0");
+    parameters().set("restart_output", "0");
+    parameters().set("ene", "0");
+    setProgressLabel("pouring: ");
+}
+
+void PourSimulation::actionsBeforeTimeLoop() {
+    const ParticleData& P = particles();
+    double m = 0, d = 0;
+    for (std::size_t i = 0; i < P.size(); ++i) {
+        m += P.m[i];
+        d += 2 * P.r[i];
+    }
+    const double n = static_cast<double>(std::max<std::size_t>(P.size(), 1));
+    restEnergy_ = ekRatio * m * norm(gravity()) * d / n;  // ekRatio * N * m_mean * g * d_mean
+    quench_ = quenchTime > 0 ? quenchTime : 20 * minCollisionTime();
+}
+
+void PourSimulation::pour() {
+    setTimeMax(time() + timeLimit);
+    setSaveEvery(timeLimit);
+    solve();
+}
+
+void PourSimulation::computeAdditionalForces() {
+    ParticleData& P = particles();
+    const double tau = landed_ ? quench_ : dragTime;
+    const long n = static_cast<long>(P.size());
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i) P.f[i] -= (P.m[i] / tau) * P.v[i];
+}
+
+double PourSimulation::maxSpeed() const {
+    const ParticleData& P = particles();
+    double v2 = 0;
+    for (std::size_t i = 0; i < P.size(); ++i) v2 = std::max(v2, dot(P.v[i], P.v[i]));
+    return std::sqrt(v2);
+}
+
+void PourSimulation::actionsAfterTimeStep() {
+    if (landed_ || step() % 50 != 0 || time() < dragTime) return;
+    if (maxSpeed() < landedFraction * norm(gravity()) * dragTime) {
+        landed_ = true;
+        landingTime_ = time();
+    }
+}
+
+bool PourSimulation::continueSolve() const {
+    return !landed_ || kineticEnergy() > restEnergy_;
+}
+
+} // namespace pdpm
