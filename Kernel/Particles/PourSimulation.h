@@ -15,7 +15,7 @@ class PourSimulation : public DPMBase {
 public:
     explicit PourSimulation(const std::string& name = "Pour");
 
-    double dragTime = 0.05;       ///< s: drag time while falling (terminal speed g * dragTime)
+    double dragTime = 0.1;        ///< s: drag time while falling (terminal speed g * dragTime, about 1 m/s)
     double quenchTime = 0;        ///< s: drag time after landing (0: 20 x the shortest collision time)
     double landedFraction = 0.1;  ///< landed when every speed is below this fraction of the terminal speed
     double ekRatio = 1e-3;        ///< rest: E_k below ekRatio * N m_mean |g| d_mean
