@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 out="${1:-demo-output}"
 scripts/build.sh
-for p in IsotropicCompression UniaxialCyclic pdpm-fit pdpm-explain pdpm-explain-data; do
+for p in IsotropicCompression UniaxialCyclic OedometerRelaxation pdpm-fit pdpm-explain pdpm-explain-data; do
   if [[ ! -x build/bin/$p ]]; then
     echo "demo.sh: build/bin/$p was not built" >&2
     exit 1
@@ -35,13 +35,15 @@ echo "  (plus RUN_NNNN.vtu snapshots for ParaView; figures in plots/)"
 # Tables 4.4/4.5 of ../shared/data/thesis): where does a model without time dependence disagree, and why?
 shared="$(cd .. && pwd)/shared"
 if [[ -f "$shared/data/thesis/table_4_5_relaxation_materials.csv" ]]; then
+  echo "demo.sh: pdpm-explain on the thesis cocoa recording (surrogate fit, then 3 small DEM runs: a few minutes)"
   build/bin/pdpm-explain-data thesis --material cocoa --data "$shared/data" --output "$out/explain-cocoa-input" >/dev/null
   build/bin/pdpm-explain --recording "$out/explain-cocoa-input/recording.csv" \
-    --protocol "$out/explain-cocoa-input/protocol.json" --output "$out/explain-cocoa" >/dev/null
+    --protocol "$out/explain-cocoa-input/protocol.json" --output "$out/explain-cocoa" > "$out/explain-cocoa.log"
   echo
   echo "pdpm-explain on the thesis cocoa recording (report: $out/explain-cocoa/report.md):"
   grep -m1 '"verdict"' "$out/explain-cocoa/report.json" | sed 's/^ */  /'
   grep -A3 -m1 -i "^## *verdict\|^\*\*verdict" "$out/explain-cocoa/report.md" | sed 's/^/  /' || true
+  grep -m1 "^DEM confirmation" "$out/explain-cocoa.log" | sed 's/^/  /' || true
 else
   echo "demo.sh: ../shared/data/thesis not found, skipping pdpm-explain" >&2
 fi

@@ -7,21 +7,17 @@
 #include <random>
 
 #include "Core/Error.h"
+#include "DemConfirmation.h"
 #include "Explain.h"
 #include "ExplainBench.h"
 #include "IO/AtomicFile.h"
 #include "IO/Json.h"
+#include "TempDir.h"
 
 using namespace pdpm;
 using namespace pdpm::explain;
 
 namespace {
-std::string workDir(const std::string& name) {
-    const std::string d = std::filesystem::current_path().string() + "/explain_" + name;
-    std::filesystem::remove_all(d);
-    std::filesystem::create_directories(d);
-    return d;
-}
 ExplainResult runCase(const CaseSpec& s, GeneratedCase* out = nullptr) {
     GeneratedCase g = generateCase(s);
     ExplainOptions opt;
@@ -55,6 +51,102 @@ TEST(ExplainNoise, RecoversAr1SigmaAndRho) {
     }
 }
 
+TEST(ExplainNoise, WhiteNoiseKeepsFullEffectiveSampleSize) {
+    // white (quantised) noise must not be given a spurious AR part with rho near 1, which would cut
+    // n_eff several-fold and with it the power of every test
+    int low = 0;
+    for (unsigned seed = 1; seed <= 40; ++seed) {
+        std::mt19937_64 g(seed);
+        std::normal_distribution<double> N(0, 1);
+        std::vector<double> r(2000);
+        for (auto& v : r) v = std::round(N(g) / 0.5) * 0.5;
+        const NoiseModel nm = estimateNoise(r);
+        low += nm.nEff < 0.7 * 2000;
+    }
+    EXPECT_LE(low, 2) << "white noise with n_eff < 0.7 n in " << low << " of 40 records";
+}
+
+TEST(ExplainNoise, SmoothMisfitIsNotTakenForNoise) {
+    // AR(1) noise (sd 1, rho 0.5) plus a large slow misfit in stretches (like a relaxation the
+    // baseline lacks): the second-difference estimate must keep sigma close to 1
+    std::mt19937_64 g(3);
+    std::normal_distribution<double> N(0, 1);
+    std::vector<double> r(6000);
+    double x = 0;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+        x = 0.5 * x + std::sqrt(0.75) * N(g);
+        const double t = double(i % 1000);
+        r[i] = x + 200.0 * std::pow(1 + t / 5.0, -0.5);  // decays within every block of 1000 samples
+    }
+    std::vector<int> seg(r.size());
+    for (std::size_t i = 0; i < r.size(); ++i) seg[i] = (i % 1000 < 3 || i % 1000 > 996) ? -1 : int(i / 1000);
+    const NoiseModel nm = estimateNoise(r, seg);
+    EXPECT_NEAR(nm.sigma, 1.0, 0.3);
+    EXPECT_NEAR(nm.rho, 0.5, 0.2);
+}
+
+TEST(ExplainNoise, WhitenerDecorrelatesAr1) {
+    NoiseModel white;
+    white.arVar = 0;
+    white.whiteVar = 1;
+    EXPECT_TRUE(white.whitener().identity());
+    NoiseModel nm;
+    nm.rho = 0.9;
+    nm.arVar = 1.0;
+    nm.whiteVar = 0.05;
+    std::mt19937_64 g(5);
+    std::normal_distribution<double> N(0, 1);
+    std::vector<double> r(20000);
+    double a = 0;
+    for (auto& v : r) {
+        a = 0.9 * a + std::sqrt(1 - 0.81) * N(g);
+        v = a + std::sqrt(0.05) * N(g);
+    }
+    nm.whitener().apply(r, {});
+    double s0 = 0, s1 = 0;
+    for (std::size_t i = 1; i < r.size(); ++i) {
+        s0 += r[i] * r[i];
+        s1 += r[i] * r[i - 1];
+    }
+    EXPECT_LT(std::abs(s1 / s0), 0.05) << "whitened lag-1 correlation";
+    EXPECT_NEAR(s0 / double(r.size() - 1), nm.innovationVar(), 0.1 * nm.innovationVar());
+}
+
+TEST(ExplainModel, CohesionTensionOnlyAfterContactAndLoosePacking) {
+    // strain history: 0 -> 0.1 (first loading from below the contact strain) -> -0.02 (lift-off)
+    Recording rec;
+    Protocol proto;
+    proto.height = 0.05;
+    proto.diameter = 0.05;
+    for (int i = 0; i <= 400; ++i) {
+        rec.t.push_back(i);
+        rec.strain.push_back(i <= 200 ? 0.1 * i / 200.0 : 0.1 - 0.12 * (i - 200) / 200.0);
+        rec.stress.push_back(0);
+    }
+    const Model M(makeModelInput(rec, proto));
+    std::vector<double> p = M.defaults();
+    p[pE] = 1e6;
+    p[pEps0] = 0.01;
+    p[pTension] = 5e3;
+    std::vector<char> on(kNumComp, 0), onC(kNumComp, 0);
+    onC[kCohesion] = 1;
+    std::vector<double> y0, yc;
+    M.evaluate(p, on, y0);
+    M.evaluate(p, onC, yc);
+    EXPECT_EQ(yc[0], 0.0) << "no tension before the first contact";
+    EXPECT_LT(yc[50], y0[50]) << "looser packing: softer first loading";
+    EXPECT_NEAR(yc[200], 1e6 * 0.09 - 1e6 * 0.09 * 5e-3 / (0.09 + 5e-3), 1e-6 * 1e6);
+    EXPECT_NEAR(yc[400], -5e3, 1e-9) << "tension branch floors at -sigma_c";
+    EXPECT_EQ(y0[400], 0.0);
+}
+
+TEST(ExplainLocate, SelectMismatchTakesComparableParts) {
+    const auto m = selectMismatch({10, 9, 8, 1, 0.2});
+    EXPECT_EQ(std::vector<char>(m.begin(), m.end()), (std::vector<char>{1, 1, 1, 0, 0}));
+    const auto z = selectMismatch({0, 0});
+    EXPECT_EQ(std::vector<char>(z.begin(), z.end()), (std::vector<char>{0, 0}));
+}
+
 TEST(ExplainFit, RecoversRelaxationParametersFromCleanData) {
     GeneratedCase g = generateCase({"contact_relaxation", 5, 0.0, 11, 1500});
     const Model M(makeModelInput(g.rec, g.proto));
@@ -81,7 +173,8 @@ TEST(ExplainFit, RecoversRelaxationParametersFromCleanData) {
 }
 
 TEST(ExplainInput, BadInputsAreInputErrors) {
-    const std::string d = workDir("badinput");
+    const pdpm::testing::TempDir tmp;  // removed when the test ends
+    const std::string d = tmp.str();
     writeWholeFile(d + "/noGeom.json", R"({"device":{"name":"x"},"steps":[{"type":"ramp"}]})");
     EXPECT_THROW(readProtocol(d + "/noGeom.json"), InputError);
     writeWholeFile(d + "/badStep.json", R"({"device":{"name":"x","diameter_m":0.05,"height_m":0.05},"steps":[{"type":"jump"}]})");
@@ -116,7 +209,7 @@ TEST(ExplainBenchmarkSubset, NullCasesSayNoMissingPhysics) {
 }
 
 TEST(ExplainBenchmarkSubset, PositiveCasesNameTheMechanism) {
-    for (const char* kind : {"contact_relaxation", "plasticity", "rate_dependence"}) {
+    for (const char* kind : {"contact_relaxation", "plasticity", "rate_dependence", "cohesion"}) {
         GeneratedCase g;
         const ExplainResult r = runCase({kind, 8, 0.5, 201, 1500}, &g);
         ASSERT_EQ(r.verdict, "missing_physics") << kind << ": " << r.summary;
@@ -133,20 +226,40 @@ TEST(ExplainBenchmarkSubset, PositiveCasesNameTheMechanism) {
 }
 
 TEST(ExplainCommand, EndToEndIsDeterministicAndScored) {
-    const std::string d = workDir("e2e");
+    const pdpm::testing::TempDir tmp;  // removed when the test ends
+    const std::string d = tmp.str();
     writeCase(generateCase({"contact_relaxation", 8, 0.5, 301, 1500}), d + "/case", d + "/truth.json");
     for (const char* out : {"/a", "/b"})
         ASSERT_EQ(runExplainCommand({"--recording", d + "/case/recording.csv", "--protocol", d + "/case/protocol.json",
-                                     "--output", d + out, "--seed", "5", "--no_figures"}),
+                                     "--output", d + out, "--seed", "5", "--no_figures", "--dem", "off"}),
                   0);
     EXPECT_EQ(readWholeFile(d + "/a/report.json"), readWholeFile(d + "/b/report.json"));
     const Json rep = readJsonFile(d + "/a/report.json");
     for (const char* key : {"verdict", "mechanisms", "windows", "fit", "dem_confirmation", "candidates", "noise"})
         EXPECT_TRUE(rep.has(key)) << key;
     EXPECT_EQ(rep.at("dem_confirmation").at("status").asString(), "not_run");
+    EXPECT_TRUE(rep.at("fit").has("heldout_excess_rmse_baseline"));
     const CaseScore s = scoreCase(rep, readJsonFile(d + "/truth.json"));
+    EXPECT_GT(s.iou, 0.0) << "the reported windows overlap the true affected phases";
     EXPECT_TRUE(s.positive);
     EXPECT_TRUE(s.detected);
     EXPECT_TRUE(s.correctMechanism);
     EXPECT_GE(s.paramRelError, 0.0);
+}
+
+TEST(ExplainCommand, DemConfirmationStatusWithoutRuns) {
+    ExplainResult none;
+    Recording rec;
+    DemOptions opt;
+    EXPECT_EQ(confirmWithDem(none, rec, "p.json", opt, "unused").status, "not_needed");
+    ExplainResult plast;
+    plast.mechanisms.push_back(MechanismResult{});
+    plast.mechanisms.back().comp = kPlasticity;
+    EXPECT_EQ(confirmWithDem(plast, rec, "p.json", opt, "unused").status, "not_supported");
+    opt.mode = "off";
+    EXPECT_EQ(confirmWithDem(plast, rec, "p.json", opt, "unused").status, "not_run");
+    const pdpm::testing::TempDir tmp;
+    EXPECT_EQ(runExplainCommand({"--recording", tmp.str() + "/r.csv", "--protocol", tmp.str() + "/p.json", "--output",
+                                 tmp.str() + "/o", "--dem", "sometimes"}),
+              2);
 }

@@ -17,8 +17,9 @@ C = None
 for x in r['mechanisms']:
     if x['name'] == 'contact_relaxation': C = x['parameters']['C']['value']; ci = x['parameters']['C']['ci95']
 holds = sum(w['share_of_excess_residual'] for w in r['windows'] if w['mismatch'] and w['phase'] == 'hold')
+acts = sorted({w['phase'] for x in r['mechanisms'] if x['name'] == 'contact_relaxation' for w in x.get('acts_in', [])})
 print(f"{m}: verdict {r['verdict']}, mechanisms {names}, C = {C} (95 % {ci if C else '-'}) vs thesis mean {t['C_mean']:.4f}, "
-      f"share of excess in hold windows {holds:.2f}")
+      f"share of excess in hold windows {holds:.2f}, contact_relaxation acts in {acts}")
 if C is not None: ok = ok and abs(C - t['C_mean']) <= 0.25 * t['C_mean']
 sys.exit(0 if ok else 1)
 PY

@@ -113,6 +113,7 @@ struct Fitter {
     const Model& model;
     const std::vector<double>& y;
     double inflation;
+    Whitener whitener{};
     FitResult fit(const std::vector<char>& on, const std::vector<std::vector<double>>& starts,
                   const std::vector<double>& weights = {}) const {
         FitResult best;
@@ -121,6 +122,7 @@ struct Fitter {
         fo.freeParams = freeParamsFor(model, on);
         fo.weights = weights;
         fo.covInflation = inflation;
+        fo.whitener = whitener;
         for (const auto& s : starts) {
             FitResult r = fitModel(model, y, on, s, fo);
             if (r.rss < best.rss) best = std::move(r);
@@ -129,21 +131,41 @@ struct Fitter {
     }
 };
 
-double bic(double rss, std::size_t n, double nEff, int k) {
-    return nEff * std::log(std::max(rss, 1e-300) / double(n)) + k * std::log(nEff);
+/// BIC with the effective sample size in the penalty. nLik: n for a whitened (GLS) residual energy,
+/// whose innovations are independent; n_eff for a plain residual energy of correlated noise.
+double bic(double rss, std::size_t n, double nLik, double nEff, int k) {
+    return nLik * std::log(std::max(rss, 1e-300) / double(n)) + k * std::log(nEff);
 }
 
-/// Held-out RMSE with blocked cross-validation: 4*folds contiguous blocks, fold f holds out the
-/// blocks b with b % folds == f; each fold is fitted on the rest, starting from `start`.
-double heldoutRmse(const Fitter& F, const std::vector<char>& on, const std::vector<double>& start, int folds) {
+/// Fold of every sample for blocked cross-validation, stratified by protocol phase: each phase is cut
+/// into `folds` contiguous parts and part j of phase k goes to fold (j + k) % folds. Every fold thus
+/// keeps 3/4 of every phase: a mechanism whose signature lives in one phase (the unloading for wall
+/// friction or plasticity, the holds for relaxation) stays identifiable in every fold fit, which
+/// plain interleaved blocks do not guarantee (a held-out block could take most of the unloading).
+/// Parts are long compared with the noise correlation time, so held-out noise does not leak.
+std::vector<int> foldsByPhase(const Recording& rec, int folds) {
+    std::vector<int> f(rec.size(), 0);
+    int k = 0;
+    for (const auto& ph : detectPhases(rec.t, rec.strain)) {
+        const std::size_t len = ph.end - ph.begin;
+        for (std::size_t i = ph.begin; i < ph.end; ++i)
+            f[i] = int(((i - ph.begin) * std::size_t(folds) / std::max<std::size_t>(len, 1) + std::size_t(k)) % std::size_t(folds));
+        ++k;
+    }
+    return f;
+}
+
+/// Held-out RMSE with blocked cross-validation over the folds `foldOf`; each fold is fitted on the
+/// rest, starting from `start`.
+double heldoutRmse(const Fitter& F, const std::vector<char>& on, const std::vector<double>& start, int folds,
+                   const std::vector<int>& foldOf) {
     const std::size_t n = F.y.size();
-    const std::size_t nb = std::size_t(4 * folds);
     double ss = 0;
     std::size_t cnt = 0;
     for (int f = 0; f < folds; ++f) {
         std::vector<double> w(n, 1.0);
         for (std::size_t i = 0; i < n; ++i)
-            if ((i * nb / n) % std::size_t(folds) == std::size_t(f)) w[i] = 0;
+            if (foldOf[i] == f) w[i] = 0;
         FitResult r = F.fit(on, {start}, w);
         for (std::size_t i = 0; i < n; ++i)
             if (w[i] == 0) {
@@ -180,8 +202,27 @@ void binarySegment(const std::vector<double>& z, std::size_t a, std::size_t b, d
     }
 }
 
+/// Variance of the mean of m consecutive samples of AR(1) + white noise.
+double varianceOfMean(const NoiseModel& nm, std::size_t m) {
+    const double md = double(m);
+    double acc = md * (nm.arVar + nm.whiteVar);
+    double rk = 1;
+    for (std::size_t k = 1; k < m; ++k) {
+        rk *= nm.rho;
+        if (rk < 1e-12) break;
+        acc += 2 * (md - double(k)) * nm.arVar * rk;
+    }
+    return acc / (md * md);
+}
+
+/// Windows of the baseline residual `resid`. With `explained` (augmented minus baseline model, empty
+/// when nothing was added) the excess of a phase is decomposed as the energy of the explained part
+/// (noise-free) plus the significant excess of the rest (smoothed, noise subtracted); without it the
+/// whole excess is estimated from the smoothed residual. restIsNoise: the final residual passed the
+/// noise test, so only the explained part is attributed.
 std::vector<Window> locate(const Recording& rec, const std::vector<double>& resid, const NoiseModel& nm,
-                           std::vector<Phase>& phaseOfSample) {
+                           std::vector<Phase>& phaseOfSample, const std::vector<double>& explained,
+                           bool restIsNoise) {
     const std::size_t n = resid.size();
     const auto phases = detectPhases(rec.t, rec.strain);
     phaseOfSample.assign(n, Phase::Load);
@@ -190,54 +231,98 @@ std::vector<Window> locate(const Recording& rec, const std::vector<double>& resi
     const double infl = double(resid.size()) / nm.nEff;
     const double pen = 4 * std::log(std::max(nm.nEff, 3.0));
     const std::size_t minLen = std::max<std::size_t>(5, std::size_t(3 * infl));
-    std::vector<Window> ws;
+    // Excess residual energy, estimated from the residual smoothed within each phase (moving
+    // average over a few correlation lengths, minus the exact noise variance of that average):
+    // the mismatch is smooth, the noise is not, so this is far less noisy than sum r^2 - n sigma^2.
+    const std::size_t h = std::clamp<std::size_t>(std::size_t(std::ceil(2 * infl)), 3, std::max<std::size_t>(3, n / 50));
+    std::vector<double> exSample(n, 0.0), exNoiseVar(n, 0.0);
+    std::vector<double> vCache(2 * h + 2, -1.0);
     for (const auto& s : phases) {
-        for (std::size_t i = s.begin; i < s.end; ++i) phaseOfSample[i] = s.phase;
+        for (std::size_t i = s.begin; i < s.end; ++i) {
+            phaseOfSample[i] = s.phase;
+            const std::size_t lo = i >= s.begin + h ? i - h : s.begin, hi = std::min(s.end, i + h + 1);
+            double sum = 0;
+            for (std::size_t k = lo; k < hi; ++k) sum += resid[k] - (explained.empty() ? 0.0 : explained[k]);
+            const std::size_t m = hi - lo;
+            if (vCache[m] < 0) vCache[m] = varianceOfMean(nm, m);
+            const double mean = sum / double(m);
+            exSample[i] = mean * mean - vCache[m];
+            exNoiseVar[i] = vCache[m];
+        }
+    }
+    // phase-level attribution: a powder engineer asks "which part of the test" (which hold, which
+    // unloading); the windows carrying the excess are whole protocol phases, split only for display
+    std::vector<double> exPhase(phases.size(), 0.0), sdPhase(phases.size(), 0.0);
+    for (std::size_t k = 0; k < phases.size(); ++k) {
+        double e = 0, v = 0, ex = 0;
+        for (std::size_t i = phases[k].begin; i < phases[k].end; ++i) {
+            e += exSample[i];
+            v += exNoiseVar[i];
+            if (!explained.empty()) ex += explained[i] * explained[i];
+        }
+        // sd of sum of squared smoothed noise: about v * sqrt(2 (2h+1) / n_phase)
+        const double np = double(phases[k].end - phases[k].begin);
+        sdPhase[k] = v * std::sqrt(2.0 * double(2 * h + 1) / std::max(np, 1.0));
+        const bool significant = !restIsNoise && e > (explained.empty() ? 2 : 3) * sdPhase[k];
+        exPhase[k] = ex + (significant ? e : 0.0);
+        for (std::size_t i = phases[k].begin; i < phases[k].end; ++i) {  // per-sample shares
+            const double xs = explained.empty() ? 0.0 : explained[i] * explained[i];
+            exSample[i] = xs + (significant ? exSample[i] : 0.0);
+        }
+    }
+    const auto mark = selectMismatch(exPhase);
+    double totalExcess = 0;
+    for (double x : exPhase) totalExcess += x;
+    std::vector<Window> ws;
+    for (std::size_t k = 0; k < phases.size(); ++k) {
+        const auto& s = phases[k];
         std::vector<std::size_t> cuts = {s.begin, s.end};
-        binarySegment(z, s.begin, s.end, infl, pen, minLen, 4, cuts);
+        const bool mm = mark[k] && exPhase[k] > 0;
+        if (!mm) binarySegment(z, s.begin, s.end, infl, pen, minLen, 4, cuts);  // display split only
         std::sort(cuts.begin(), cuts.end());
         for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
             Window w;
             w.begin = cuts[c];
             w.end = cuts[c + 1];
             w.phase = phaseName(s.phase);
+            w.mismatch = mm;
+            w.excessZ = sdPhase[k] > 0 ? exPhase[k] / sdPhase[k] : 0;
+            double e = 0, sz = 0;
+            for (std::size_t i = w.begin; i < w.end; ++i) {
+                e += exSample[i];
+                sz += z[i];
+            }
+            w.share = totalExcess > 0 ? std::max(0.0, e) / totalExcess : 0;
+            w.meanZ = sz / double(w.end - w.begin);
+            w.tStart = rec.t[w.begin];
+            w.tEnd = rec.t[w.end - 1];
+            w.epsStart = rec.strain[w.begin];
+            w.epsEnd = rec.strain[w.end - 1];
+            w.sStart = rec.stress[w.begin];
+            w.sEnd = rec.stress[w.end - 1];
             ws.push_back(w);
-        }
-    }
-    double totalExcess = 0;
-    std::vector<double> ex(ws.size());
-    for (std::size_t k = 0; k < ws.size(); ++k) {
-        Window& w = ws[k];
-        double e2 = 0, sz = 0;
-        for (std::size_t i = w.begin; i < w.end; ++i) {
-            e2 += resid[i] * resid[i];
-            sz += z[i];
-        }
-        ex[k] = std::max(0.0, e2 - double(w.end - w.begin) * nm.sigma * nm.sigma);
-        totalExcess += ex[k];
-        w.meanZ = sz / double(w.end - w.begin);
-        w.tStart = rec.t[w.begin];
-        w.tEnd = rec.t[w.end - 1];
-        w.epsStart = rec.strain[w.begin];
-        w.epsEnd = rec.strain[w.end - 1];
-        w.sStart = rec.stress[w.begin];
-        w.sEnd = rec.stress[w.end - 1];
-    }
-    std::vector<std::size_t> order(ws.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ex[a] > ex[b]; });
-    double cum = 0;
-    for (std::size_t k : order) {
-        ws[k].share = totalExcess > 0 ? ex[k] / totalExcess : 0;
-        if (cum < 0.8 && ws[k].share >= 0.02) {
-            ws[k].mismatch = true;
-            cum += ws[k].share;
         }
     }
     return ws;
 }
 
 } // namespace
+
+std::vector<char> selectMismatch(const std::vector<double>& excess, double relative, double minShare) {
+    double total = 0, mx = 0;
+    for (double x : excess) {
+        total += std::max(0.0, x);
+        mx = std::max(mx, x);
+    }
+    std::vector<char> out(excess.size(), 0);
+    if (!(total > 0)) return out;
+    // every part carrying a comparable amount (>= relative * the largest) and a visible share;
+    // a cumulative "80 % of the total" rule would pick an arbitrary subset of near-equal parts
+    // (e.g. 3 of 4 similar holds), which is noise, not localisation
+    for (std::size_t k = 0; k < excess.size(); ++k)
+        out[k] = excess[k] >= relative * mx && excess[k] >= minShare * total;
+    return out;
+}
 
 std::string separatingExperiment(int a, int b) {
     auto is = [&](int x, int y) { return (a == x && b == y) || (a == y && b == x); };
@@ -318,12 +403,29 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     for (int c : opt.baselineComps)
         for (auto& s : startsFor(M, c, p0)) baseStarts.push_back(s);
     FitResult cur = F.fit(on, baseStarts);
+    const std::vector<int> noiseSeg = noiseSegments(rec.t, rec.strain);
     NoiseModel nm = estimateNoise([&] {
         std::vector<double> r(n);
         for (std::size_t i = 0; i < n; ++i) r[i] = y[i] - cur.model[i];
         return r;
-    }());
-    F.inflation = double(n) / nm.nEff;
+    }(), noiseSeg);
+    // likelihood: generalised least squares with the AR(1)+white innovation filter (whitened
+    // residuals are independent: likelihood with n, penalty with n_eff), or plain residuals with
+    // n_eff in the likelihood (opt.whitenedLikelihood = false)
+    double nLik = double(n);
+    auto useNoise = [&](const NoiseModel& model) {
+        if (opt.whitenedLikelihood) {
+            F.whitener = model.whitener();
+            F.inflation = 1.0;
+            nLik = double(n);
+        } else {
+            F.whitener = Whitener{};
+            F.inflation = double(n) / model.nEff;
+            nLik = model.nEff;
+        }
+    };
+    useNoise(nm);
+    cur = F.fit(on, {cur.p});
 
     // ---- 2. nuisances first ----
     std::vector<int> nuis = opt.nuisances.empty() ? std::vector<int>{kCompliance, kDrift} : opt.nuisances;
@@ -332,7 +434,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         std::vector<char> on2 = on;
         on2[c] = 1;
         FitResult f = F.fit(on2, startsFor(M, c, cur.p));
-        const double d = bic(cur.rss, n, nm.nEff, nFree(M, on)) - bic(f.rss, n, nm.nEff, nFree(M, on2));
+        const double d = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on)) - bic(f.rss, n, nLik, nm.nEff, nFree(M, on2));
         if (d >= 2) {
             on = on2;
             cur = f;
@@ -342,7 +444,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     // noise model re-estimated on the nuisance-corrected baseline residual
     std::vector<double> r0(n);
     for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
-    nm = estimateNoise(r0);
+    nm = estimateNoise(r0, noiseSeg);
     if (opt.knownNoiseSigma > 0) {  // instrument noise given: white, n_eff = n
         nm.sigma = opt.knownNoiseSigma;
         nm.rho = 0;
@@ -350,8 +452,8 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         nm.whiteVar = nm.sigma * nm.sigma;
         nm.nEff = double(n);
     }
-    F.inflation = double(n) / nm.nEff;
-    cur = F.fit(on, {cur.p});  // covariance with the final inflation
+    useNoise(nm);
+    cur = F.fit(on, {cur.p});  // refit with the final noise model (and its covariance)
     for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
     R.noise = nm;
     R.pNoiseBaseline = blockChiSquarePValue(r0, nm, nFree(M, on));
@@ -359,12 +461,24 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     R.onBaseline = on;
     R.yBaseline = cur.model;
     R.rmseBaseline = rmsOf(y, cur.model);
-    const double rssBase = cur.rss;
+    double rssBase = 0;
+    for (std::size_t i = 0; i < n; ++i) rssBase += r0[i] * r0[i];
     const double sigma2 = nm.sigma * nm.sigma;
     R.minDetectableRms = nm.sigma * std::sqrt((opt.bicThreshold + std::log(nm.nEff)) / nm.nEff);
 
-    // ---- 3. locate ----
-    R.windows = locate(rec, r0, nm, R.phaseOfSample);
+    // ---- 3. locate: after the mechanisms are added (below), with the explained part ----
+
+    // does the record unload to (about) zero force after having been loaded? (cohesion needs it)
+    bool reachesZeroForce = false;
+    {
+        bool loaded = false;
+        for (std::size_t i = 0; i < n; ++i) {
+            loaded = loaded || y[i] > 0.5 * in.stressMax;
+            if (loaded && y[i] < 0.02 * in.stressMax) reachesZeroForce = true;
+        }
+    }
+
+    const std::vector<int> foldOf = foldsByPhase(rec, opt.folds);
 
     // ---- 4./5. screen and add mechanisms one at a time ----
     std::vector<int> cands = opt.candidates;
@@ -374,7 +488,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     std::vector<double> bicWeightsBase;
     bool ambiguous = false;
     for (int round = 1; round <= opt.maxMechanisms; ++round) {
-        const double bicCur = bic(cur.rss, n, nm.nEff, nFree(M, on));
+        const double bicCur = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
         // Jacobian of the current model for the identifiability projection
         const auto fr = freeParamsFor(M, on);
         Eigen::MatrixXd J(n, fr.size());
@@ -404,6 +518,14 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             std::vector<char> on2 = on;
             on2[c] = 1;
             auto starts = startsFor(M, c, cur.p);
+            if (c == kCohesion && !reachesZeroForce) {
+                // without an unload to zero force the tension branch is unseen, and the loose-packing
+                // part alone is plastic compaction: it would pose as plasticity + stiffness curvature
+                cd.testable = false;
+                cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
+                roundC[std::size_t(ti)] = cd;
+                continue;
+            }
             if (starts.empty()) {
                 cd.testable = false;
                 cd.note = std::string("not testable with an axial-stress recording: needs ") + missingSegment(c);
@@ -439,7 +561,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             starts.push_back(js);
             FitResult f = F.fit(on2, starts);
             cd.rss = f.rss;
-            cd.dBIC = bicCur - bic(f.rss, n, nm.nEff, nFree(M, on2));
+            cd.dBIC = bicCur - bic(f.rss, n, nLik, nm.nEff, nFree(M, on2));
             cd.p = f.p;
             cd.se = f.se;
             if (cd.orthFraction < 0.05)
@@ -473,8 +595,8 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             }
             std::vector<char> on2 = on;
             on2[cd.comp] = 1;
-            cd.heldoutBase = heldoutRmse(F, on, cur.p, opt.folds);
-            cd.heldoutAug = heldoutRmse(F, on2, cd.p, opt.folds);
+            cd.heldoutBase = heldoutRmse(F, on, cur.p, opt.folds, foldOf);
+            cd.heldoutAug = heldoutRmse(F, on2, cd.p, opt.folds, foldOf);
             if (cd.heldoutAug < cd.heldoutBase || opt.forceBest) {
                 cd.accepted = cd.dBIC >= opt.bicThreshold && cd.heldoutAug < cd.heldoutBase;
                 chosen = int(order[oi]);
@@ -512,12 +634,12 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         bool dropped = true;
         while (dropped && accepted.size() > 1) {
             dropped = false;
-            const double bicFull = bic(cur.rss, n, nm.nEff, nFree(M, on));
+            const double bicFull = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
             for (std::size_t a = 0; a < accepted.size(); ++a) {
                 std::vector<char> on2 = on;
                 on2[accepted[a]] = 0;
                 FitResult f = F.fit(on2, {cur.p});
-                if (bic(f.rss, n, nm.nEff, nFree(M, on2)) - bicFull < opt.bicThreshold) {
+                if (bic(f.rss, n, nLik, nm.nEff, nFree(M, on2)) - bicFull < opt.bicThreshold) {
                     for (auto& cd : R.candidates)
                         if (cd.comp == accepted[a] && cd.accepted) {
                             cd.accepted = false;
@@ -543,10 +665,22 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (std::size_t i = 0; i < n; ++i) rf[i] = y[i] - cur.model[i];
         R.pNoiseFinal = blockChiSquarePValue(rf, nm, nFree(M, on));
     }
+    {
+        std::vector<double> explained;
+        if (!accepted.empty() && !opt.forceBest) {
+            explained.resize(n);
+            for (std::size_t i = 0; i < n; ++i) explained[i] = cur.model[i] - R.yBaseline[i];
+        }
+        // once mechanisms are added and the final residual passes the noise test, the rest is noise
+        const bool restIsNoise = !explained.empty() && R.pNoiseFinal >= 1e-3;
+        R.windows = locate(rec, r0, nm, R.phaseOfSample, explained, restIsNoise);
+    }
     const double excess = rssBase - double(n) * sigma2;
-    R.explainedFraction = excess > 0 ? std::clamp((rssBase - cur.rss) / excess, 0.0, 1.0) : 0.0;
-    R.heldoutBaseline = heldoutRmse(F, R.onBaseline, R.pBaseline, opt.folds);
-    R.heldoutAugmented = accepted.empty() ? R.heldoutBaseline : heldoutRmse(F, on, cur.p, opt.folds);
+    double rssFinal = 0;
+    for (std::size_t i = 0; i < n; ++i) rssFinal += (y[i] - cur.model[i]) * (y[i] - cur.model[i]);
+    R.explainedFraction = excess > 0 ? std::clamp((rssBase - rssFinal) / excess, 0.0, 1.0) : 0.0;
+    R.heldoutBaseline = heldoutRmse(F, R.onBaseline, R.pBaseline, opt.folds, foldOf);
+    R.heldoutAugmented = accepted.empty() ? R.heldoutBaseline : heldoutRmse(F, on, cur.p, opt.folds, foldOf);
 
     for (int c : accepted) {
         MechanismResult m;
@@ -568,6 +702,37 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             m.hi.push_back(std::min(hi, d.hi));
         }
         m.inclusionProbability = bicWeightsBase.empty() ? 0 : bicWeightsBase[c];
+        {  // where the term acts
+            std::vector<char> onOff = on;
+            onOff[c] = 0;
+            std::vector<double> yOff;
+            M.evaluate(cur.p, onOff, yOff);
+            const auto phases = detectPhases(rec.t, rec.strain);
+            std::vector<double> en(phases.size(), 0.0);
+            double tot = 0;
+            for (std::size_t k = 0; k < phases.size(); ++k) {
+                for (std::size_t i = phases[k].begin; i < phases[k].end; ++i)
+                    en[k] += (cur.model[i] - yOff[i]) * (cur.model[i] - yOff[i]);
+                tot += en[k];
+            }
+            const auto mk = selectMismatch(en);
+            for (std::size_t k = 0; k < phases.size(); ++k)
+                if (mk[k]) {
+                    Window w;
+                    w.begin = phases[k].begin;
+                    w.end = phases[k].end;
+                    w.phase = phaseName(phases[k].phase);
+                    w.tStart = rec.t[w.begin];
+                    w.tEnd = rec.t[w.end - 1];
+                    w.epsStart = rec.strain[w.begin];
+                    w.epsEnd = rec.strain[w.end - 1];
+                    w.sStart = rec.stress[w.begin];
+                    w.sEnd = rec.stress[w.end - 1];
+                    w.share = tot > 0 ? en[k] / tot : 0;
+                    w.mismatch = true;
+                    m.actsIn.push_back(w);
+                }
+        }
         R.mechanisms.push_back(m);
     }
 
@@ -647,6 +812,18 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         }
         mj.set("parameters", ps);
         mj.set("inclusion_probability", m.inclusionProbability);
+        Json acts = Json::array();
+        for (const auto& w : m.actsIn) {
+            Json o = Json::object();
+            o.set("phase", w.phase);
+            o.set("t_start_s", w.tStart);
+            o.set("t_end_s", w.tEnd);
+            o.set("strain_start", w.epsStart);
+            o.set("strain_end", w.epsEnd);
+            o.set("share_of_term_energy", w.share);
+            acts.push(o);
+        }
+        mj.set("acts_in", acts);
         mechs.push(mj);
     }
     j.set("mechanisms", mechs);
@@ -674,6 +851,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         o.set("stress_start_Pa", w.sStart);
         o.set("stress_end_Pa", w.sEnd);
         o.set("mean_normalised_residual", w.meanZ);
+        o.set("phase_excess_significance", w.excessZ);
         o.set("mismatch", w.mismatch);
         wins.push(o);
     }
@@ -683,7 +861,15 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     fit.set("rmse_augmented", R.rmseAugmented);
     fit.set("heldout_rmse_baseline", R.heldoutBaseline);
     fit.set("heldout_rmse_augmented", R.heldoutAugmented);
-    fit.set("heldout_scheme", "blocked cross-validation, " + std::to_string(opt.folds) + " folds of interleaved contiguous blocks");
+    {  // held-out error above the noise floor: at low SNR the plain RMSE is dominated by noise
+        const double s2 = R.noise.sigma * R.noise.sigma;
+        const double eb = std::sqrt(std::max(0.0, R.heldoutBaseline * R.heldoutBaseline - s2));
+        const double ea = std::sqrt(std::max(0.0, R.heldoutAugmented * R.heldoutAugmented - s2));
+        fit.set("heldout_excess_rmse_baseline", eb);
+        fit.set("heldout_excess_rmse_augmented", ea);
+        fit.set("heldout_excess_definition", "sqrt(max(0, heldout_rmse^2 - sigma_noise^2)): the held-out error above the estimated noise level");
+    }
+    fit.set("heldout_scheme", "blocked cross-validation, " + std::to_string(opt.folds) + " folds; every protocol phase cut into " + std::to_string(opt.folds) + " contiguous parts, one per fold (rotated between phases)");
     fit.set("explained_fraction_of_excess", R.explainedFraction);
     Json bp = Json::object();
     for (int k = 0; k < kNumPar; ++k)
@@ -791,7 +977,14 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             for (std::size_t k = 0; k < m.params.size(); ++k)
                 md << (k ? ", " : "") << defs[m.params[k]].name << " = " << num(m.value[k], 4) << " " << defs[m.params[k]].unit
                    << " (95 %: " << num(m.lo[k], 3) << " to " << num(m.hi[k], 3) << ")";
-            md << "; probability that it is the one missing (BIC weight) " << num(m.inclusionProbability, 3) << "\n";
+            md << "; probability that it is the one missing (BIC weight) " << num(m.inclusionProbability, 3);
+            if (!m.actsIn.empty()) {
+                md << "; the term acts mainly in";
+                for (std::size_t k = 0; k < m.actsIn.size(); ++k)
+                    md << (k ? "," : "") << " " << m.actsIn[k].phase << " " << num(m.actsIn[k].tStart, 5) << "-"
+                       << num(m.actsIn[k].tEnd, 5) << " s";
+            }
+            md << "\n";
         }
         md << "\n";
     }

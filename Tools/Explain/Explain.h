@@ -21,6 +21,7 @@ struct ExplainOptions {
     int maxMechanisms = 3;
     int folds = 4;                   ///< blocked cross-validation folds
     bool forceBest = false;
+    bool whitenedLikelihood = true;  ///< GLS likelihood (AR(1)+white innovations); false: plain residuals with n_eff
     double knownNoiseSigma = 0;      ///< >0: instrument noise sd (Pa) from MODEL.json, used instead of the
                                      ///< estimate (sparse records, where differences see the misfit)          ///< add the best candidate even if it fails (benchmark control)
 };
@@ -49,7 +50,8 @@ struct Window {
     std::string phase;
     double share = 0;       ///< share of the excess residual energy
     double meanZ = 0;       ///< mean normalised residual (sign of the mismatch)
-    bool mismatch = false;  ///< among the windows that carry 80 % of the excess
+    double excessZ = 0;     ///< the phase's excess energy over its noise sd (significance)
+    bool mismatch = false;  ///< in a protocol phase carrying a comparable part of the excess (selectMismatch)
 };
 
 struct MechanismResult {
@@ -57,6 +59,9 @@ struct MechanismResult {
     std::vector<int> params;
     std::vector<double> value, lo, hi;
     double inclusionProbability = 0;
+    /// protocol phases where the added term itself acts (final model minus the same model with the
+    /// term switched off), as opposed to `windows`, where the baseline disagrees with the recording
+    std::vector<Window> actsIn;
 };
 
 struct ExplainResult {
@@ -86,6 +91,11 @@ void writeReport(const std::string& dir, const ExplainResult& r, const Recording
 
 /// The command line of pdpm-explain (argv[1..]); returns the exit code.
 int runExplainCommand(const std::vector<std::string>& args);
+
+/// The parts (e.g. protocol phases) carrying the excess residual energy: every part with at least
+/// `relative` times the largest part's excess and at least `minShare` of the total. Used by the
+/// explainer (estimated excess) and by the benchmark truth (noise-free visible effect).
+std::vector<char> selectMismatch(const std::vector<double>& excess, double relative = 0.3, double minShare = 0.05);
 
 /// Experiment that separates two mechanisms.
 std::string separatingExperiment(int a, int b);

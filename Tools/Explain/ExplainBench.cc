@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "Core/Error.h"
+#include "Explain.h"
 #include "ExplainModel.h"
 #include "IO/AtomicFile.h"
 
@@ -86,10 +87,18 @@ GeneratedCase generateCase(const CaseSpec& spec) {
         P.steps.push_back({StepType::Hold, -1, -1, hold});
         e = ek;
     }
-    const double eu = hasCoh ? e0 - 1.5 * tension / E : e0 + uni(0.05, 0.3) * (epsTop - e0);
+    // Lift-off test (unload below the contact strain and hold there): always for cohesion cases,
+    // where it is the segment the tension branch needs, and in 30 % of the other cases, so that the
+    // protocol does not give the truth away. Drawn from a separate stream so that the parameters
+    // of the other cases do not change.
+    std::mt19937_64 rngLift(spec.seed * 0xD1B54A32D192ED03ULL + 777);
+    const bool liftOff = hasCoh || U(rngLift) < 0.3;
+    const double liftDepth = hasCoh ? 1.5 * tension / E : 1.5 * (0.03 + 0.07 * U(rngLift)) * (epsTop - e0);
+    const double partial = hasCoh ? 0.0 : uni(0.05, 0.3);  // drawn as before the lift-off option
+    const double eu = liftOff ? e0 - liftDepth : e0 + partial * (epsTop - e0);
     segs.push_back({e, eu, (e - eu) / rate});
     P.steps.push_back({StepType::Unload, rate * P.height, -1, (e - eu) / rate});
-    if (hasCoh) {  // lift-off test: hold in tension at the bottom of the unloading
+    if (liftOff) {  // lift-off test: hold in tension at the bottom of the unloading
         segs.push_back({eu, eu, 0.5 * hold});
         P.steps.push_back({StepType::Hold, -1, -1, 0.5 * hold});
     }
@@ -241,12 +250,31 @@ GeneratedCase generateCase(const CaseSpec& spec) {
         for (int c = kRelaxation; c < kNumComp; ++c)
             for (int k : M.paramsOf(c))
                 if (!std::isnan(M.defs()[k].off)) start[k] = M.defs()[k].off;
+        {  // the same estimator as the explainer: GLS with the (here: true) noise model
+            NoiseModel tn;
+            tn.rho = spec.rho;
+            tn.arVar = sigma * sigma;
+            tn.whiteVar = (sigma / 2) * (sigma / 2) / 12;  // quantisation
+            fo.whitener = tn.whitener();
+        }
         const FitResult fb = fitModel(M, yWith, onB, start, fo);
         std::vector<double> vis(yWith.size());
         for (std::size_t i = 0; i < vis.size(); ++i) vis[i] = yWith[i] - fb.model[i];
-        for (auto [a, b] : effectWindows(R.t, vis)) wj.push(Json::array({Json(a), Json(b)}));
+        Json ws = Json::array();
+        for (auto [a, b] : effectWindows(R.t, vis)) ws.push(Json::array({Json(a), Json(b)}));
+        tr.set("windows_visible_samplewise", ws);
+        // the true affected window, at the granularity a powder engineer reads a test (and the tool
+        // reports): the protocol phases carrying a comparable part of the visible mismatch energy
+        const auto phases = detectPhases(R.t, R.strain);
+        std::vector<double> en(phases.size(), 0.0);
+        for (std::size_t k = 0; k < phases.size(); ++k)
+            for (std::size_t i = phases[k].begin; i < phases[k].end; ++i) en[k] += vis[i] * vis[i];
+        const auto mark = selectMismatch(en);
+        for (std::size_t k = 0; k < phases.size(); ++k)
+            if (mark[k]) wj.push(Json::array({Json(R.t[phases[k].begin]), Json(R.t[phases[k].end - 1])}));
     }
     tr.set("windows", wj);
+    tr.set("windows_definition", "protocol phases carrying at least 30 % of the largest phase's visible mismatch energy and 5 % of the total (visible: noise-free recording minus the best baseline + nuisance fit)");
     g.truth = tr;
     return g;
 }
@@ -331,6 +359,12 @@ CaseScore scoreCase(const Json& report, const Json& truth) {
     const Json& f = report.at("fit");
     const double hb = f.at("heldout_rmse_baseline").asNumber(), ha = f.at("heldout_rmse_augmented").asNumber();
     s.heldoutGain = hb > 0 ? 1 - ha / hb : 0;
+    if (f.has("heldout_excess_rmse_baseline")) {
+        const double eb = f.at("heldout_excess_rmse_baseline").asNumber(), ea = f.at("heldout_excess_rmse_augmented").asNumber();
+        s.heldoutExcessGain = eb > 0 ? 1 - ea / eb : 0;
+    } else {
+        s.heldoutExcessGain = -1;
+    }
     return s;
 }
 

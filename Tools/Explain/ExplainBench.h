@@ -41,6 +41,7 @@ struct CaseScore {
     double iou = 0;
     double paramRelError = -1; ///< |estimate - truth| / |truth - off| of the primary parameter (-1: n/a)
     double heldoutGain = 0;    ///< 1 - heldout_aug / heldout_base
+    double heldoutExcessGain = 0;  ///< the same for the held-out error above the noise level (-1: n/a)
     std::string verdict, truthKind;
     double snr = 0, rho = 0;
 };

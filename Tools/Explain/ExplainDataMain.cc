@@ -126,6 +126,19 @@ int thesis(const std::string& material, const std::string& dataDir, const std::s
     return 0;
 }
 
+/// Piston speed of an imported record without a time base (time = row index): the median strain
+/// step per row times the height. The recording format needs a speed > 0 for ramp/unload steps.
+double typicalVelocity(const Recording& r, double height) {
+    std::vector<double> v;
+    for (std::size_t i = 1; i < r.t.size(); ++i) {
+        const double d = std::abs(r.strain[i] - r.strain[i - 1]) / std::max(r.t[i] - r.t[i - 1], 1e-12);
+        if (d > 0) v.push_back(d);
+    }
+    if (v.empty()) return 1e-6;
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2] * height;
+}
+
 int importKfs(const std::string& in, const std::string& out) {
     const auto rows = readWhitespaceTable(in, 3, 3);
     Recording r;
@@ -139,7 +152,8 @@ int importKfs(const std::string& in, const std::string& out) {
     p.diameter = 0.07;  // assumed (not in the data); only wall_friction uses it
     p.height = 0.02;
     p.material = "Karlsruhe fine sand";
-    p.steps = {{StepType::Ramp, -1, 407e3, -1}, {StepType::Unload, -1, -1, -1}, {StepType::Ramp, -1, 407e3, -1}};
+    const double vk = typicalVelocity(r, p.height);  // assumed: the file has no time
+    p.steps = {{StepType::Ramp, vk, 407e3, -1}, {StepType::Unload, vk, -1, -1}, {StepType::Ramp, vk, 407e3, -1}};
     ensureDirectory(out);
     writeRecordingCsv(r, out + "/recording.csv",
                       {"imported from " + in + " (sigma1 kPa -> Pa, eps1 % -> strain)",
@@ -163,8 +177,9 @@ int importCheng(const std::string& in, const std::string& out) {
     p.diameter = 0.05;  // assumed
     p.height = 0.02;
     p.material = "glass beads";
-    p.steps = {{StepType::Ramp, -1, -1, -1}, {StepType::Unload, -1, -1, -1}, {StepType::Ramp, -1, -1, -1},
-               {StepType::Unload, -1, -1, -1}};
+    const double vc = typicalVelocity(r, p.height);  // assumed: the file has no time
+    p.steps = {{StepType::Ramp, vc, -1, -1}, {StepType::Unload, vc, -1, -1}, {StepType::Ramp, vc, -1, -1},
+               {StepType::Unload, vc, -1, -1}};
     ensureDirectory(out);
     writeRecordingCsv(r, out + "/recording.csv",
                       {"imported from " + in + ": sigma_a = p + 2q/3, sigma_r = p - q/3, unit assumed MPa",

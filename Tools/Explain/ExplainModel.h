@@ -10,7 +10,10 @@
 //   stiffness_nonlinearity   n != 1 (power law; off: n = 1)
 //   plasticity      unloading branch  s = lam * s_v(e) - (lam - 1) * s_v(e_max)  (off: lam = 1),
 //                   i.e. lam times stiffer than loading, leaving a strain at zero stress
-//   cohesion        the unloading branch continues into tension down to -sigma_c (off: 0)
+//   cohesion        sigma_c (off: 0): the unloading branch continues below zero force into tension
+//                   down to -sigma_c (only after first contact), and the cohesive loose packing gives
+//                   an extra first-loading compliance of strain scale x_c = sigma_c/E (first-loading
+//                   curve E x^2/(x + x_c); the collapse is permanent, unload/reload keep the deficit)
 //   contact_relaxation  during each hold (constant strain) the stress decays as thesis Eq. 4.3,
 //                   s = s_h (1 + (t - t_h)/t0)^(-C) (off: C = 0); after the hold the deficit is
 //                   recovered over the strain the loading curve needs to make it up
@@ -93,15 +96,25 @@ private:
 
 struct FitResult {
     std::vector<double> p;
-    double rss = 0;            ///< weighted residual sum of squares
+    double rss = 0;            ///< weighted (and, with a whitener, whitened) residual sum of squares
     std::vector<double> model; ///< prediction at every sample
     std::vector<double> se;    ///< standard errors (physical units; 0 for fixed parameters)
     int iterations = 0;
 };
 
+/// Innovation filter of AR(1) + white noise, written as ARMA(1,1): e_i = x_i - phi x_{i-1} + theta e_{i-1}
+/// (the first sample of every contiguous kept stretch scaled by `startScale`). Identity by default.
+struct Whitener {
+    double phi = 0, theta = 0, startScale = 1;
+    bool identity() const { return phi == 0 && theta == 0 && startScale == 1; }
+    /// In place; samples with w[i] == 0 are set to 0 and restart the filter.
+    void apply(std::vector<double>& x, const std::vector<double>& w) const;
+};
+
 struct FitOptions {
     std::vector<int> freeParams;
     std::vector<double> weights;  ///< 0/1 mask (empty: all 1)
+    Whitener whitener;            ///< generalised least squares: the cost is the whitened residual energy
     double covInflation = 1.0;    ///< n / n_eff, multiplies the covariance
     int maxIterations = 80;
 };
@@ -119,8 +132,16 @@ struct NoiseModel {
     double sigma = 0, rho = 0, nEff = 0;  ///< total sd, lag-1 coefficient of the AR(1) part, n_eff
     double arVar = 0, whiteVar = 0;       ///< variance of the AR(1) part and of the white part
     std::size_t n = 0;
+    /// The innovation filter of this noise model (exact ARMA(1,1) form of AR(1) + white).
+    Whitener whitener() const;
+    double innovationVar() const;  ///< variance of the innovations of whitener()
 };
-NoiseModel estimateNoise(const std::vector<double>& resid);
+/// `segment` (optional, same length): phase id of each sample, -1 to exclude it; only differences
+/// within one phase enter, so that misfit jumps at phase changes are not taken for noise.
+NoiseModel estimateNoise(const std::vector<double>& resid, const std::vector<int>& segment = {});
+/// Segment ids for estimateNoise: the protocol phases of a strain history, with `margin` samples at
+/// each end of every phase excluded (-1).
+std::vector<int> noiseSegments(const std::vector<double>& t, const std::vector<double>& strain, std::size_t margin = 3);
 
 /// Block chi-square test of "the residual is zero-mean AR(1) noise": block means over blocks much
 /// longer than the correlation time, each divided by its exact AR(1) standard deviation. Returns
