@@ -7,6 +7,7 @@
 
 #include "Core/Error.h"
 #include "Recording.h"
+#include "TempDir.h"
 
 using namespace pdpm;
 using namespace pdpm::recording;
@@ -59,11 +60,12 @@ TEST(Recording, WriterRefusesInvalidAndRoundTrips) {
     Recording r;
     r.columns = {"time_s", "axial_stress_Pa"};
     r.rows = {{0, 1.0 / 3}, {1, 2}};
-    writeRecording("recording_test.csv", r);
-    const Recording back = readRecording("recording_test.csv");
+    const pdpm::testing::TempDir tmp;
+    writeRecording(tmp.file("recording_test.csv"), r);
+    const Recording back = readRecording(tmp.file("recording_test.csv"));
     EXPECT_EQ(back.rows, r.rows);
     r.rows.push_back({0.5, 3});
-    EXPECT_THROW(writeRecording("recording_test_bad.csv", r), InputError);
+    EXPECT_THROW(writeRecording(tmp.file("recording_test_bad.csv"), r), InputError);
     EXPECT_THROW(readRecording("does_not_exist.csv"), InputError);
 }
 
