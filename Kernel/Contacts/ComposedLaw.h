@@ -2,6 +2,8 @@
 // particle pairs and wall contacts are instantiated per composition so every part inlines.
 #pragma once
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <string>
 
@@ -46,77 +48,147 @@ public:
     }
 
     /// Forces of the pairs [k0, k1) of one slab. Restrict-qualified pointers: the arrays never alias.
-    static void pairRange(std::size_t k0, std::size_t k1, const uint32_t* __restrict pi, const uint32_t* __restrict pj,
-                          const Vec3* __restrict x, const Vec3* __restrict v, const Vec3* __restrict w,
-                          const double* __restrict r, const double* __restrict invM, const double* __restrict m,
-                          const int32_t* __restrict sp, Vec3* __restrict f, Vec3* __restrict t,
-                          double* __restrict hist, const MinimumImage img, const SpeciesTable& spt, double dt,
-                          double time, std::vector<ContactRecord>* rec, double& energy) {
-        const bool single = spt.size() == 1;
-        const ContactParameters& p0 = spt.pair(0, 0);
-        for (std::size_t k = k0; k < k1; ++k) {
-            const uint32_t i = pi[k], j = pj[k];
-            double dx = x[i].x - x[j].x, dy = x[i].y - x[j].y, dz = x[i].z - x[j].z;
-            img.apply(dx, dy, dz);
-            const double rs = r[i] + r[j];
-            const double d2 = dx * dx + dy * dy + dz * dz;
-            double* h = hist + k * H;
-            if (d2 >= rs * rs) {
-                // Reset the history of a pair that is not touching; write only if needed, so that the
-                // cache lines of near-miss pairs stay clean (a static bed has many).
-                if constexpr (H > 0) {
-                    bool dirty = false;
-                    for (int q = 0; q < H; ++q) dirty |= h[q] != 0.0;
-                    if (dirty) for (int q = 0; q < H; ++q) h[q] = 0.0;
+    /// The pairs are taken in chunks. Where many listed pairs are near misses (a static bed: about as
+    /// many as contacts) a chunk is screened first: a branch-free pass computes the separations and
+    /// collects the pairs in contact (resetting the history of pairs that just separated), then the
+    /// law runs over the collected pairs; this removes the unpredictable contact / near-miss branch.
+    /// Where nearly all pairs touch (a compressed packing) the plain single pass is cheaper, and the
+    /// loop switches by the hit rate of the previous chunk. Either way each pair's arithmetic and the
+    /// order of the force accumulation are the same, so the choice never changes a result.
+    template <bool kPeriodic>
+    [[gnu::flatten]] static void pairRange(std::size_t k0, std::size_t k1, const uint32_t* __restrict pi,
+                                           const uint32_t* __restrict pj, const Vec3* __restrict x,
+                                           const Vec3* __restrict v, const Vec3* __restrict w,
+                                           const double* __restrict r, const double* __restrict invM,
+                                           const double* __restrict m, const int32_t* __restrict sp,
+                                           Vec3* __restrict f, Vec3* __restrict t, double* __restrict hist,
+                                           const MinimumImage img, const SpeciesTable& spt, double dt, double time,
+                                           std::vector<ContactRecord>* rec, double& energy) {
+        constexpr std::size_t kChunk = 256;
+        uint32_t hit[kChunk];
+        double sdx[kChunk], sdy[kChunk], sdz[kChunk], sd2[kChunk];
+        bool screen = true;
+        for (std::size_t c0 = k0; c0 < k1; c0 += kChunk) {
+            const std::size_t c1 = std::min(k1, c0 + kChunk);
+            std::size_t nHit = 0;
+            if (screen) {
+                for (std::size_t k = c0; k < c1; ++k) {
+                    const uint32_t i = pi[k], j = pj[k];
+                    double dx = x[i].x - x[j].x, dy = x[i].y - x[j].y, dz = x[i].z - x[j].z;
+                    if constexpr (kPeriodic) img.apply(dx, dy, dz);
+                    const double rs = r[i] + r[j];
+                    const double d2 = dx * dx + dy * dy + dz * dz;
+                    const bool touching = d2 < rs * rs;
+                    hit[nHit] = static_cast<uint32_t>(k - c0);
+                    sdx[nHit] = dx;
+                    sdy[nHit] = dy;
+                    sdz[nHit] = dz;
+                    sd2[nHit] = d2;
+                    nHit += touching ? 1 : 0;
+                    if constexpr (H > 0) {
+                        // One well-predicted branch on the combined flag: the empty asm makes the flag
+                        // opaque, so the compiler cannot split it into a branch on `dirty` (which would
+                        // mispredict like the contact test itself).
+                        unsigned reset = dirtyHistory(hist + k * H) & static_cast<unsigned>(!touching);
+                        asm("" : "+r"(reset));
+                        if (reset != 0) [[unlikely]]
+                            for (int q = 0; q < H; ++q) hist[k * H + q] = 0.0;
+                    }
                 }
-                continue;
+                for (std::size_t q = 0; q < nHit; ++q) {
+                    const std::size_t k = c0 + hit[q];
+                    contact(k, pi[k], pj[k], sdx[q], sdy[q], sdz[q], sd2[q], x, v, w, r, invM, m, sp, f, t,
+                                     hist, spt, dt, time, rec, energy);
+                }
+            } else {
+                for (std::size_t k = c0; k < c1; ++k) {
+                    const uint32_t i = pi[k], j = pj[k];
+                    double dx = x[i].x - x[j].x, dy = x[i].y - x[j].y, dz = x[i].z - x[j].z;
+                    if constexpr (kPeriodic) img.apply(dx, dy, dz);
+                    const double rs = r[i] + r[j];
+                    const double d2 = dx * dx + dy * dy + dz * dz;
+                    if (d2 < rs * rs) {
+                        ++nHit;
+                        contact(k, i, j, dx, dy, dz, d2, x, v, w, r, invM, m, sp, f, t, hist, spt, dt, time,
+                                         rec, energy);
+                    } else if constexpr (H > 0) {
+                        if (dirtyHistory(hist + k * H))
+                            for (int q = 0; q < H; ++q) hist[k * H + q] = 0.0;
+                    }
+                }
             }
-            const double dist = std::sqrt(d2);
-            const double inv = 1.0 / dist;
-            ContactState st;
-            st.n = {dx * inv, dy * inv, dz * inv};
-            st.overlap = rs - dist;
-            const Vec3 vrel = v[i] - v[j];
-            st.overlapRate = -dot(vrel, st.n);
-            st.dt = dt;
-            st.time = time;
-            const double ai = r[i] - 0.5 * st.overlap, aj = r[j] - 0.5 * st.overlap;
-            if constexpr (kNeedsMass) {
-                const double sumInv = invM[i] + invM[j];
-                st.mEff = sumInv > 0 ? 1.0 / sumInv : reducedMass(m[i], m[j]);
-            }
-            if constexpr (kNeedsRadius) st.rEff = r[i] * r[j] / rs;
-            if constexpr (kTangential) {
-                const Vec3 vc = vrel - cross(ai * w[i] + aj * w[j], st.n);
-                st.vt = vc - dot(vc, st.n) * st.n;
-                st.wRel = w[i] - w[j];
-            }
-            const ContactParameters& p = single ? p0 : spt.pair(sp[i], sp[j]);
-            ContactOutput o;
-            eval(p, st, h, o);
-            const Vec3 F = o.fn * st.n + o.ft;
-            f[i] += F;
-            f[j] -= F;
-            if constexpr (kTangential) {
-                const Vec3 nxft = cross(st.n, o.ft);
-                t[i] += o.torqueRT - ai * nxft;
-                t[j] -= o.torqueRT + aj * nxft;
-            }
-            if (rec) {
-                energy += o.energy;
-                ContactRecord cr;
-                cr.i = static_cast<int>(i);
-                cr.j = static_cast<int>(j);
-                cr.point = x[i] - ai * st.n;
-                cr.overlap = st.overlap;
-                cr.n = st.n;
-                cr.fn = o.fn;
-                cr.ft = o.ft;
-                cr.branch = {dx, dy, dz};
-                cr.sliding = o.sliding;
-                cr.energy = o.energy;
-                rec->push_back(cr);
-            }
+            screen = 8 * nHit < 7 * (c1 - c0);
+        }
+    }
+
+    /// 1 if some history entry is != 0.0 (as the floating-point test: +-0 clean, NaN dirty), on the
+    /// bits. The history of a pair that is not touching is reset only if dirty, so that the cache
+    /// lines of near-miss pairs stay clean.
+    static inline unsigned dirtyHistory(const double* h) {
+        uint64_t bits = 0;
+        for (int q = 0; q < H; ++q) bits |= std::bit_cast<uint64_t>(h[q]);
+        return (bits << 1) != 0 ? 1u : 0u;
+    }
+
+    /// The law for one pair in contact (separation dx, dy, dz, squared distance d2). Records are a
+    /// run-time branch on purpose: a separate no-record instantiation would let the compiler fuse
+    /// multiply-adds differently (the energy shares products with the force), so forces would
+    /// depend on whether the step writes output.
+    [[gnu::always_inline]] static inline void contact(std::size_t k, uint32_t i, uint32_t j, double dx, double dy, double dz, double d2,
+                               const Vec3* __restrict x, const Vec3* __restrict v, const Vec3* __restrict w,
+                               const double* __restrict r, const double* __restrict invM,
+                               const double* __restrict m, const int32_t* __restrict sp, Vec3* __restrict f,
+                               Vec3* __restrict t, double* __restrict hist, const SpeciesTable& spt, double dt,
+                               double time, std::vector<ContactRecord>* rec, double& energy) {
+        (void)m;
+        (void)invM;
+        const double rs = r[i] + r[j];
+        double* h = hist + k * H;
+        const double dist = std::sqrt(d2);
+        const double inv = 1.0 / dist;
+        ContactState st;
+        st.n = {dx * inv, dy * inv, dz * inv};
+        st.overlap = rs - dist;
+        const Vec3 vrel = v[i] - v[j];
+        st.overlapRate = -dot(vrel, st.n);
+        st.dt = dt;
+        st.time = time;
+        const double ai = r[i] - 0.5 * st.overlap, aj = r[j] - 0.5 * st.overlap;
+        if constexpr (kNeedsMass) {
+            const double sumInv = invM[i] + invM[j];
+            st.mEff = sumInv > 0 ? 1.0 / sumInv : reducedMass(m[i], m[j]);
+        }
+        if constexpr (kNeedsRadius) st.rEff = r[i] * r[j] / rs;
+        if constexpr (kTangential) {
+            const Vec3 vc = vrel - cross(ai * w[i] + aj * w[j], st.n);
+            st.vt = vc - dot(vc, st.n) * st.n;
+            st.wRel = w[i] - w[j];
+        }
+        const ContactParameters& p = spt.size() == 1 ? spt.pair(0, 0) : spt.pair(sp[i], sp[j]);
+        ContactOutput o;
+        eval(p, st, h, o);
+        const Vec3 F = o.fn * st.n + o.ft;
+        f[i] += F;
+        f[j] -= F;
+        if constexpr (kTangential) {
+            const Vec3 nxft = cross(st.n, o.ft);
+            t[i] += o.torqueRT - ai * nxft;
+            t[j] -= o.torqueRT + aj * nxft;
+        }
+        if (rec) {
+            energy += o.energy;
+            ContactRecord cr;
+            cr.i = static_cast<int>(i);
+            cr.j = static_cast<int>(j);
+            cr.point = x[i] - ai * st.n;
+            cr.overlap = st.overlap;
+            cr.n = st.n;
+            cr.fn = o.fn;
+            cr.ft = o.ft;
+            cr.branch = {dx, dy, dz};
+            cr.sliding = o.sliding;
+            cr.energy = o.energy;
+            rec->push_back(cr);
         }
     }
 
@@ -124,6 +196,7 @@ public:
         ParticleData& P = c.particles;
         NeighbourList& nl = c.neighbours;
         const MinimumImage img(c.box);
+        const bool periodic = img.p[0] || img.p[1] || img.p[2];
         for (const auto& phase : nl.phases) {
             const int nPhase = static_cast<int>(phase.size());
 #pragma omp parallel for schedule(dynamic, 1)
@@ -132,9 +205,10 @@ public:
                 double energy = 0;
                 std::vector<ContactRecord>* rec = c.record ? &(*c.records)[s] : nullptr;
                 if (rec) rec->clear();
-                pairRange(nl.slabStart[s], nl.slabStart[s + 1], nl.pairI.data(), nl.pairJ.data(), P.x.data(),
-                          c.velocity, c.angularVelocity, P.r.data(), P.invM.data(), P.m.data(), P.species.data(),
-                          P.f.data(), P.t.data(), nl.history.data(), img, c.species, c.dt, c.time, rec, energy);
+                (periodic ? pairRange<true> : pairRange<false>)(
+                    nl.slabStart[s], nl.slabStart[s + 1], nl.pairI.data(), nl.pairJ.data(), P.x.data(), c.velocity,
+                    c.angularVelocity, P.r.data(), P.invM.data(), P.m.data(), P.species.data(), P.f.data(), P.t.data(),
+                    nl.history.data(), img, c.species, c.dt, c.time, rec, energy);
                 if (rec) (*c.energy)[s] = energy;
             }
         }
@@ -154,7 +228,7 @@ public:
             Vec3* wf = c.wallForce->data();
             Vec3* wt = c.wallTorque->data();
             const Vec3 ref = wall.referencePoint();
-#pragma omp parallel for schedule(static) if (cnt > 4096)
+#pragma omp parallel for schedule(static) if (cnt > 512)
             for (long q = 0; q < cnt; ++q) {
                 const std::size_t k = b + q;
                 const uint32_t i = nl.wallParticle[k];

@@ -289,32 +289,42 @@ double DPMBase::integrateFirstHalf() {
     ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
     const double h = 0.5 * dt_, dt = dt_;
-    const Vec3* x0 = neighbours_.referencePositions();
     const bool haveRef = neighbours_.referenceCount() == P.size();
     vPred_.resize(P.size());
     wPred_.resize(P.size());
-    Vec3* vp = vPred_.data();
-    Vec3* wp = wPred_.data();
+    // Raw restrict pointers: through the vectors, every store would force the compiler to reload
+    // the other arrays' data pointers.
+    Vec3* __restrict x = P.x.data();
+    Vec3* __restrict v = P.v.data();
+    Vec3* __restrict w = P.w.data();
+    Vec3* __restrict f = P.f.data();
+    Vec3* __restrict t = P.t.data();
+    const double* __restrict invM = P.invM.data();
+    const double* __restrict invI = P.invI.data();
+    const uint8_t* __restrict fixed = P.fixed.data();
+    const Vec3* __restrict x0 = neighbours_.referencePositions();
+    Vec3* __restrict vp = vPred_.data();
+    Vec3* __restrict wp = wPred_.data();
     double maxD2 = 0;
 #pragma omp parallel for schedule(static) reduction(max : maxD2)
     for (long i = 0; i < n; ++i) {
-        if (!P.fixed[i]) {
-            const Vec3 dv = (h * P.invM[i]) * P.f[i];
-            const Vec3 dw = (h * P.invI[i]) * P.t[i];
-            P.v[i] += dv;
-            P.w[i] += dw;
-            P.x[i] += dt * P.v[i];
-            vp[i] = P.v[i] + dv;  // predicted v(n+1), assuming F(n+1) = F(n)
-            wp[i] = P.w[i] + dw;
+        if (!fixed[i]) {
+            const Vec3 dv = (h * invM[i]) * f[i];
+            const Vec3 dw = (h * invI[i]) * t[i];
+            v[i] += dv;
+            w[i] += dw;
+            x[i] += dt * v[i];
+            vp[i] = v[i] + dv;  // predicted v(n+1), assuming F(n+1) = F(n)
+            wp[i] = w[i] + dw;
         } else {
-            vp[i] = P.v[i];
-            wp[i] = P.w[i];
+            vp[i] = v[i];
+            wp[i] = w[i];
         }
-        P.f[i] = {};
-        P.t[i] = {};
+        f[i] = {};
+        t[i] = {};
         if (haveRef) {
-            const double d2 = norm2(P.x[i] - x0[i]);
-            if (d2 > maxD2) maxD2 = d2;
+            const double d2 = norm2(x[i] - x0[i]);
+            maxD2 = d2 > maxD2 ? d2 : maxD2;
         }
     }
     forcesZeroed_ = true;
@@ -329,17 +339,25 @@ bool DPMBase::integrateSecondHalf() {
     const Vec3 g = gravity_;
     const double gbt = gammaBt_, gbr = gammaBr_;
     bool bad = false;
-    const Vec3* vp = vPred_.data();
-    const Vec3* wp = wPred_.data();
+    Vec3* __restrict v = P.v.data();
+    Vec3* __restrict w = P.w.data();
+    Vec3* __restrict f = P.f.data();
+    Vec3* __restrict t = P.t.data();
+    const double* __restrict m = P.m.data();
+    const double* __restrict invM = P.invM.data();
+    const double* __restrict invI = P.invI.data();
+    const uint8_t* __restrict fixed = P.fixed.data();
+    const Vec3* __restrict vp = vPred_.data();
+    const Vec3* __restrict wp = wPred_.data();
 #pragma omp parallel for schedule(static) reduction(|| : bad)
     for (long i = 0; i < n; ++i) {
-        P.f[i] += P.m[i] * g - gbt * vp[i];
-        P.t[i] -= gbr * wp[i];
-        if (!P.fixed[i]) {
-            P.v[i] += (h * P.invM[i]) * P.f[i];
-            P.w[i] += (h * P.invI[i]) * P.t[i];
+        f[i] += m[i] * g - gbt * vp[i];
+        t[i] -= gbr * wp[i];
+        if (!fixed[i]) {
+            v[i] += (h * invM[i]) * f[i];
+            w[i] += (h * invI[i]) * t[i];
         }
-        if (!std::isfinite(P.v[i].x + P.v[i].y + P.v[i].z + P.w[i].x + P.w[i].y + P.w[i].z)) bad = true;
+        if (!std::isfinite(v[i].x + v[i].y + v[i].z + w[i].x + w[i].y + w[i].z)) bad = true;
     }
     return !bad;
 }

@@ -1,6 +1,7 @@
 #include "Neighbours/NeighbourList.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <istream>
 #include <ostream>
@@ -17,11 +18,10 @@
 namespace pdpm {
 
 std::size_t NeighbourList::bytes() const {
-    return (pairI.capacity() + pairJ.capacity() + wallParticle.capacity()) * sizeof(uint32_t) +
+    return (pairI.capacity() + pairJ.capacity() + wallParticle.capacity() + cellStart_.capacity() +
+            cellList_.capacity()) * sizeof(uint32_t) +
            (history.capacity() + wallHistory.capacity()) * sizeof(double) + x0_.capacity() * sizeof(Vec3) +
-           (cellOf_.capacity() + cellStart_.capacity() + cellList_.capacity() + oldI_.capacity() +
-            oldJ_.capacity() + csrIndex_.capacity()) * sizeof(uint32_t) +
-           oldHistory_.capacity() * sizeof(double) + csrStart_.capacity() * sizeof(std::size_t);
+           slabStart.capacity() * sizeof(std::size_t);
 }
 
 bool NeighbourList::needsRebuild(double maxD, const ParticleData& p, const PeriodicBox& box, const WallList& walls) const {
@@ -118,15 +118,64 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     valid_ = true;
 }
 
+// history[k] <- old history[src[k]] (none: zeros) for k < src.size(), in place; src is injective
+// and is used up (entries are marked done). Writing position k destroys the old entry k, which only
+// its (unique) reader may still need; so entries are moved along chains that start at a position
+// nobody reads (each move frees the source for the next), and the positions left over form cycles,
+// closed with one saved entry.
+void NeighbourList::moveHistoryInPlace(std::vector<uint32_t>& src, std::size_t nOld, uint32_t none) {
+    const std::size_t nNew = src.size(), H = static_cast<std::size_t>(historySize);
+    const std::size_t nPos = std::max(nNew, nOld);
+    const uint32_t done = none - 1;  // src values are old pair indices < nOld < done
+    history.resize(nPos * H);        // within capacity (checked by the caller)
+    std::vector<uint64_t> needed((nPos + 63) / 64, 0);
+    for (std::size_t k = 0; k < nNew; ++k)
+        if (src[k] != none) needed[src[k] >> 6] |= uint64_t(1) << (src[k] & 63);
+    auto isNeeded = [&](std::size_t k) { return (needed[k >> 6] >> (k & 63)) & 1u; };
+    double* h = history.data();
+    for (std::size_t q = 0; q < nNew; ++q) {
+        if (src[q] == done || isNeeded(q)) continue;
+        std::size_t pos = q;
+        while (true) {
+            const uint32_t from = src[pos];
+            src[pos] = done;
+            if (from == none) {
+                std::fill_n(h + pos * H, H, 0.0);
+                break;
+            }
+            std::copy_n(h + std::size_t(from) * H, H, h + pos * H);
+            if (from >= nNew) break;
+            pos = from;  // its old entry has been read: it is free now
+        }
+    }
+    std::vector<double> saved(H);
+    for (std::size_t q = 0; q < nNew; ++q) {
+        if (src[q] == done) continue;
+        std::copy_n(h + q * H, H, saved.data());
+        std::size_t pos = q;
+        while (true) {
+            const uint32_t from = src[pos];
+            src[pos] = done;
+            if (from == q) {
+                std::copy_n(saved.data(), H, h + pos * H);
+                break;
+            }
+            std::copy_n(h + std::size_t(from) * H, H, h + pos * H);
+            pos = from;
+        }
+    }
+    history.resize(nNew * H);
+}
+
 void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& walls, int hsize) {
     const std::size_t n = p.size();
     if (n >= 0xffffffffu) inputError("too many particles for 32-bit neighbour indices");
     const bool carry = historySize == hsize && hsize > 0;
 
-    // Keep the old lists for the history transfer.
-    oldI_.swap(pairI);
-    oldJ_.swap(pairJ);
-    oldHistory_.swap(history);
+    // The old pair lists stay where they are until the new pairs have been found (each new pair
+    // notes the old pair it continues); then the new pairs overwrite them and the histories are
+    // moved in place, so a rebuild never holds two full lists (memory per particle matters).
+    // The wall lists are short: the old ones are kept aside for their history transfer.
     oldWallParticle_.swap(wallParticle);
     oldWallHistory_.swap(wallHistory);
     oldWallStart_.swap(wallStart);
@@ -212,38 +261,69 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
         return (static_cast<std::size_t>(ca) * nc[sb] + cb) * nc[sc] + cc;
     };
 
-    cellOf_.resize(n);
+    // Counting sort of the particles into cells (filled backwards from the cell ends, so no fill
+    // array is needed; particles stay in increasing index order within a cell).
+    auto cellOfParticle = [&](std::size_t i) {
+        return cellIndex(cellCoord(p.x[i], sa), cellCoord(p.x[i], sb), cellCoord(p.x[i], sc));
+    };
     cellStart_.assign(nCells + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t c = cellIndex(cellCoord(p.x[i], sa), cellCoord(p.x[i], sb), cellCoord(p.x[i], sc));
-        cellOf_[i] = static_cast<uint32_t>(c);
-        ++cellStart_[c + 1];
-    }
+    for (std::size_t i = 0; i < n; ++i) ++cellStart_[cellOfParticle(i) + 1];
     for (std::size_t c = 0; c < nCells; ++c) cellStart_[c + 1] += cellStart_[c];
     cellList_.resize(n);
-    {
-        std::vector<uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) cellList_[fill[cellOf_[i]]++] = static_cast<uint32_t>(i);
+    for (std::size_t i = n; i-- > 0;) {
+        const std::size_t c = cellOfParticle(i);
+        cellList_[--cellStart_[c + 1]] = static_cast<uint32_t>(i);
     }
+    // now cellStart_[c + 1] is the start of cell c: shift back
+    for (std::size_t c = 0; c < nCells; ++c) cellStart_[c] = cellStart_[c + 1];
+    cellStart_[nCells] = static_cast<uint32_t>(n);
     const bool perSlab = box.periodic(sa);
 
     // ---- pairs, per slab, in parallel ---------------------------------------------------------------
     // Neither the stencil nor the owner rule may see a cell twice: nc = 2 along a periodic axis is
     // excluded above (nc < 3 -> 1), so +-1 neighbours are distinct cells.
     const MinimumImage img(box);
+
+    // ---- the old pairs that carry history, indexed by their first particle (CSR) -------------------
+    // Only pairs with a non-zero history (bitwise: -0.0 counts) need to be found again; the others
+    // start from zero anyway. The index is filled backwards from the ends, like the cells.
+    const std::size_t nOld = pairI.size();
+    const bool transfer = carry && nOld > 0 && history.size() == nOld * static_cast<std::size_t>(hsize);
+    constexpr uint32_t kNone = 0xffffffffu;
+    std::vector<uint32_t> csrStart, csrIndex;
+    if (transfer) {
+        auto carriesHistory = [&](std::size_t k) {
+            uint64_t bits = 0;
+            for (int q = 0; q < hsize; ++q) bits |= std::bit_cast<uint64_t>(history[k * hsize + q]);
+            return bits != 0 && pairI[k] < n && pairJ[k] < n;
+        };
+        csrStart.assign(n + 1, 0);
+        std::size_t nCarry = 0;
+        for (std::size_t k = 0; k < nOld; ++k)
+            if (carriesHistory(k)) { ++csrStart[pairI[k]]; ++nCarry; }
+        for (std::size_t a = 1; a < n; ++a) csrStart[a] += csrStart[a - 1];  // end of a's range
+        csrStart[n] = static_cast<uint32_t>(nCarry);
+        csrIndex.resize(nCarry);
+        for (std::size_t k = nOld; k-- > 0;)
+            if (carriesHistory(k)) csrIndex[--csrStart[pairI[k]]] = static_cast<uint32_t>(k);
+    }
+
     slabI_.resize(nSlab);
     slabJ_.resize(nSlab);
+    slabK_.resize(nSlab);
     // Expected pairs per slab, from the previous build, so the lists rarely grow while filling.
-    const std::size_t prevPairs = oldI_.size();
-    const std::size_t expectPerSlab = prevPairs > 0 ? prevPairs / nSlab + prevPairs / (8 * nSlab) + 16 : 0;
+    const std::size_t expectPerSlab = nOld > 0 ? nOld / nSlab + nOld / (8 * nSlab) + 16 : 0;
     const Vec3* x = p.x.data();
     const double* r = p.r.data();
+    const uint32_t* oldJ = pairJ.data();
 #pragma omp parallel for schedule(dynamic, 1)
     for (int s = 0; s < nSlab; ++s) {
         auto& li = slabI_[s];
         auto& lj = slabJ_[s];
+        auto& lk = slabK_[s];
         li.clear();
         lj.clear();
+        lk.clear();
         li.reserve(expectPerSlab);
         lj.reserve(expectPerSlab);
         for (int cb = 0; cb < nc[sb]; ++cb)
@@ -287,17 +367,51 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
                     }
                 }
             }
+        // the old pair that each new pair continues (its history moves along)
+        if (transfer) {
+            lk.resize(li.size());
+            for (std::size_t q = 0; q < li.size(); ++q) {
+                const uint32_t a = li[q], b = lj[q];
+                uint32_t ko = kNone;
+                for (uint32_t e = csrStart[a]; e < csrStart[a + 1]; ++e)
+                    if (oldJ[csrIndex[e]] == b) {
+                        ko = csrIndex[e];
+                        break;
+                    }
+                lk[q] = ko;
+            }
+        }
     }
-    // Concatenate.
+    std::vector<uint32_t>().swap(csrStart);
+    std::vector<uint32_t>().swap(csrIndex);
+
+    // ---- concatenate: the new pairs overwrite the old ones --------------------------------------
     slabStart.assign(nSlab + 1, 0);
     for (int s = 0; s < nSlab; ++s) slabStart[s + 1] = slabStart[s] + slabI_[s].size();
     const std::size_t nPairs = slabStart[nSlab];
-    pairI.resize(nPairs);
-    pairJ.resize(nPairs);
+    // A little spare capacity, so that a list that grows slowly (a compressed packing) rarely needs a
+    // new block (which, for the history, would briefly hold old and new together).
+    const std::size_t spare = nPairs + nPairs / 16 + 64;
+    auto resizeDiscarding = [&](auto& v, std::size_t size) {
+        if (size > v.capacity()) {
+            std::remove_reference_t<decltype(v)>().swap(v);
+            v.reserve(size + (size / static_cast<std::size_t>(nPairs ? nPairs : 1)) * (spare - nPairs));
+        }
+        v.resize(size);
+    };
+    resizeDiscarding(pairI, nPairs);
+    resizeDiscarding(pairJ, nPairs);
+    std::vector<uint32_t> src;
+    if (transfer) src.resize(nPairs);
     for (int s = 0; s < nSlab; ++s) {
         std::copy(slabI_[s].begin(), slabI_[s].end(), pairI.begin() + slabStart[s]);
         std::copy(slabJ_[s].begin(), slabJ_[s].end(), pairJ.begin() + slabStart[s]);
+        if (transfer) std::copy(slabK_[s].begin(), slabK_[s].end(), src.begin() + slabStart[s]);
     }
+    auto release = [](auto& v) { std::remove_reference_t<decltype(v)>().swap(v); };
+    for (auto& v : slabI_) release(v);
+    for (auto& v : slabJ_) release(v);
+    for (auto& v : slabK_) release(v);
     // Phases: even slabs, odd slabs (and the last slab alone if periodic and odd in number).
     phases.clear();
     if (nSlab == 1) {
@@ -312,31 +426,29 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
         phases.push_back(odd);
         if (!last.empty()) phases.push_back(last);
     }
+    // Within a phase, the slabs touch disjoint particles, so the order in which they are handed to
+    // the threads does not change any result; largest first (by pairs) balances the threads of
+    // non-uniform systems (a settled bed: the top slabs are thin).
+    for (auto& ph : phases)
+        std::stable_sort(ph.begin(), ph.end(), [&](int a, int b) {
+            return slabStart[a + 1] - slabStart[a] > slabStart[b + 1] - slabStart[b];
+        });
 
-    // ---- history transfer (old pairs indexed by their first particle) -------------------------------
-    history.assign(nPairs * hsize, 0.0);
-    if (carry && !oldI_.empty()) {
-        csrStart_.assign(n + 1, 0);
-        for (uint32_t a : oldI_) if (a < n) ++csrStart_[a + 1];
-        for (std::size_t a = 0; a < n; ++a) csrStart_[a + 1] += csrStart_[a];
-        csrIndex_.resize(oldI_.size());
-        {
-            std::vector<std::size_t> fill(csrStart_.begin(), csrStart_.end() - 1);
-            for (std::size_t k = 0; k < oldI_.size(); ++k)
-                if (oldI_[k] < n) csrIndex_[fill[oldI_[k]]++] = static_cast<uint32_t>(k);
-        }
-        const int H = hsize;
-#pragma omp parallel for schedule(static)
-        for (std::size_t k = 0; k < nPairs; ++k) {
-            const uint32_t a = pairI[k], b = pairJ[k];
-            for (std::size_t q = csrStart_[a]; q < csrStart_[a + 1]; ++q) {
-                const uint32_t ko = csrIndex_[q];
-                if (oldJ_[ko] == b) {
-                    std::copy_n(&oldHistory_[static_cast<std::size_t>(ko) * H], H, &history[k * H]);
-                    break;
-                }
-            }
-        }
+    // ---- history transfer: new pair k takes the history of old pair src[k] (or zeros) -------------
+    const std::size_t H = static_cast<std::size_t>(hsize);
+    if (!transfer) {
+        resizeDiscarding(history, nPairs * H);
+        std::fill(history.begin(), history.end(), 0.0);
+    } else if (nPairs * H > history.capacity()) {
+        // The list outgrew its spare capacity: gather into a new block.
+        std::vector<double> fresh;
+        fresh.reserve(spare * H);
+        fresh.resize(nPairs * H, 0.0);
+        for (std::size_t k = 0; k < nPairs; ++k)
+            if (src[k] != kNone) std::copy_n(&history[src[k] * H], H, &fresh[k * H]);
+        history.swap(fresh);
+    } else {
+        moveHistoryInPlace(src, nOld, kNone);
     }
 
     // ---- wall lists -----------------------------------------------------------------------------
@@ -363,14 +475,10 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     }
 
     x0_ = p.x;
-    // Release the build's scratch and the previous lists: memory per particle matters more than the
-    // cost of reallocating them at the next build (builds are tens of steps apart).
-    auto release = [](auto& v) { std::remove_reference_t<decltype(v)>().swap(v); };
-    release(oldI_); release(oldJ_); release(oldHistory_);
+    // Release the build's scratch: memory per particle matters more than the cost of reallocating
+    // it at the next build (builds are tens of steps apart).
     release(oldWallParticle_); release(oldWallHistory_); release(oldWallStart_);
-    release(csrStart_); release(csrIndex_); release(cellOf_);
-    for (auto& v : slabI_) release(v);
-    for (auto& v : slabJ_) release(v);
+    release(cellList_); release(cellStart_);
     wallOffset0_.resize(walls.size());
     for (std::size_t w = 0; w < walls.size(); ++w) wallOffset0_[w] = walls[w]->offset();
     box.resetChange();

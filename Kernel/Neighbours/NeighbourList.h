@@ -70,13 +70,14 @@ private:
     long builds_ = 0;
     std::vector<Vec3> x0_;            ///< positions at the last build
     std::vector<Vec3> wallOffset0_;   ///< wall offsets at the last build
-    // scratch, kept to avoid reallocations
-    std::vector<uint32_t> cellOf_, cellStart_, cellList_;
-    std::vector<std::vector<uint32_t>> slabI_, slabJ_;
-    std::vector<uint32_t> oldI_, oldJ_, oldWallParticle_;
-    std::vector<double> oldHistory_, oldWallHistory_;
-    std::vector<std::size_t> oldWallStart_, csrStart_;
-    std::vector<uint32_t> csrIndex_;
+    // build scratch (released after each build)
+    std::vector<uint32_t> cellStart_, cellList_;
+    std::vector<std::vector<uint32_t>> slabI_, slabJ_, slabK_;
+    std::vector<uint32_t> oldWallParticle_;
+    std::vector<double> oldWallHistory_;
+    std::vector<std::size_t> oldWallStart_;
+
+    void moveHistoryInPlace(std::vector<uint32_t>& src, std::size_t nOld, uint32_t none);
 };
 
 } // namespace pdpm

@@ -75,12 +75,30 @@ protected:
         setTimeMax(timeStep() * static_cast<double>(steps_));
         setSaveEvery(timeMax());
     }
+    /// PDPM_MEMTRACE=1: memory lines (VmHWM, VmRSS, RssAnon, RssFile) on stderr at set-up, before
+    /// the loop and whenever the peak grows during it (to see which step sets the peak).
+    void actionsAfterTimeStep() override {
+        if (!memTrace_) return;
+        const long h = peakRssBytes();
+        if (h != lastPeak_) {
+            memLine("step");
+            lastPeak_ = h;
+        }
+    }
+    void memLine(const char* where) const {
+        if (!memTrace_) return;
+        std::ifstream f("/proc/self/status");
+        std::string line, out;
+        while (std::getline(f, line))
+            for (const char* key : {"VmHWM", "VmRSS", "RssAnon", "RssFile"})
+                if (line.rfind(key, 0) == 0) out += " " + line;
+        std::fprintf(stderr, "%s memory at %s, step %ld:%s\n", tag_.c_str(), where, step(), out.c_str());
+    }
     /// Volume in which the volume fraction of the summary line is measured.
     virtual double measuredVolume() const = 0;
 
     void actionsBeforeTimeLoop() override {
-        if (std::getenv("PDPM_MEMTRACE"))
-            std::fprintf(stderr, "%s: peak RSS before the loop %ld bytes\n", tag_.c_str(), peakRssBytes());
+        memLine("loop start");
         t0_ = std::chrono::steady_clock::now();
     }
     void actionsAfterSolve() override {
@@ -98,6 +116,8 @@ protected:
     }
 
     std::string tag_, start_;
+    bool memTrace_ = std::getenv("PDPM_MEMTRACE") != nullptr;
+    long lastPeak_ = 0;
     long steps_ = 0;
     double solid_ = 0;
     std::chrono::steady_clock::time_point t0_;

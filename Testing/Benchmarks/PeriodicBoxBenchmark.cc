@@ -16,6 +16,7 @@ public:
 
 protected:
     void setupInitialConditions() override {
+        memLine("set-up");
         addDeckSpecies();
         if (!start_.empty()) {
             const XyzrFile f = readXyzr(start_);

@@ -18,6 +18,7 @@ public:
 
 protected:
     void setupInitialConditions() override {
+        memLine("set-up");
         addDeckSpecies();
         Packing pk;
         if (!start_.empty()) {
