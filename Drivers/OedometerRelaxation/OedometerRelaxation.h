@@ -92,8 +92,8 @@ public:
         p.add("stress_scale", &stressScale_, 1, "-", "multiplies preset target stresses (small tests)", Range::positive());
         p.add("hold_clock", &holdClock_, "log", "lab clock of holds: log (lab time grows exponentially, S = (t0 + t)/hold_tau) or linear (S = time_scale)", {"log", "linear"});
         p.add("hold_tau", &holdTau_, 0.02, "s", "log hold clock: DEM seconds per e-fold of (relax_t0 + lab time in the hold)", Range::positive());
-        p.add("hold_settle", &holdSettle_, 1e-4, "-", "a hold's clock starts once E_k/E_p <= this (mechanical settling is instantaneous in lab time; 0: at once)", Range::nonNegative());
-        p.add("hold_settle_max", &holdSettleMax_, 0.05, "s", "longest DEM time a hold waits for settling", Range::nonNegative());
+        p.add("hold_settle", &holdSettle_, 1e-4, "-", "a hold's lab clock runs only while E_k/E_p <= this: it starts after the bed settles and pauses during rearrangement events (mechanical motion is instantaneous in lab time; 0: never waits)", Range::nonNegative());
+        p.add("hold_settle_max", &holdSettleMax_, 0.05, "s", "longest DEM time a hold's clock waits for settling (at the start and per pause)", Range::nonNegative());
         p.add("time_scale", &timeScale_, 2e3, "lab s / DEM s", "linear hold clock: lab seconds per DEM second", Range::positive());
         p.add("ramp_rate", &rampRate_, 0.5, "1/s", "DEM axial strain rate of ramps and unloads", Range::positive());
         p.add("approach", &approach_, 0.2, "-", "ramps slow down over this fraction of the target stress", Range::openClosed(0, 1));
@@ -119,7 +119,9 @@ public:
         double labStart = 0, labDuration = 0;
         double stressStart = 0, stressEnd = 0, strainStart = 0, strainEnd = 0;
         double maxEkEp = 0, settleDem = 0;  ///< settleDem: DEM seconds waited before the clock started
-        long samples = 0, samplesAbove = 0;  ///< hold samples, and those with E_k/E_p > 1e-4
+        long samples = 0, samplesAbove = 0;  ///< samples taken while the lab clock ran, and those with E_k/E_p > 1e-4
+        long pauses = 0, forcedResumes = 0;  ///< clock pauses (rearrangement events), and pauses ended by hold_settle_max
+        double pauseDem = 0;                 ///< DEM seconds the clock stood still after it had started
         recording::RelaxationFit fit;
         std::vector<double> t, s;  // lab time, axial stress samples of the hold
     };
@@ -304,10 +306,10 @@ protected:
             }
             case recording::Step::Kind::HoldPosition:
                 v = 0;
-                setLabScale(settling_ ? 0.0 : holdScale());
+                setLabScale(settling_ || paused_ ? 0.0 : holdScale());
                 break;
             case recording::Step::Kind::HoldStress: {
-                setLabScale(settling_ ? 0.0 : holdScale());
+                setLabScale(settling_ || paused_ ? 0.0 : holdScale());
                 const double err = (creepStress_ - axialStress()) / creepStress_;
                 v = -vRamp * std::clamp(5 * err, -1.0, 1.0);
                 break;
@@ -351,11 +353,12 @@ protected:
         std::cout << "OedometerRelaxation: " << rec_.rows.size() << " samples, lab time " << fmt(labTime_)
                   << " s, max inertial number during ramps " << fmt(maxInertial_) << "\n";
         for (const auto& hr : holds_)
-            std::printf("  step %d %s: stress %.6g -> %.6g Pa (drop %.4g %%), max Ek/Ep %.3g (%.3g %% of samples above 1e-4), "
-                        "fit C = %.4g, t0 = %.4g s (rms %.2g)\n",
+            std::printf("  step %d %s: stress %.6g -> %.6g Pa (drop %.4g %%), max Ek/Ep %.3g (%.3g %% of samples above 1e-4; "
+                        "%ld clock pauses, %.3g DEM s), fit C = %.4g, t0 = %.4g s (rms %.2g)\n",
                         hr.step, hr.creep ? "creep" : "hold", hr.stressStart, hr.stressEnd,
                         100 * (1 - hr.stressEnd / hr.stressStart), hr.maxEkEp,
-                        hr.samples > 0 ? 100.0 * double(hr.samplesAbove) / double(hr.samples) : 0.0, hr.fit.C, hr.fit.t0, hr.fit.rms);
+                        hr.samples > 0 ? 100.0 * double(hr.samplesAbove) / double(hr.samples) : 0.0, hr.pauses, hr.pauseDem,
+                        hr.fit.C, hr.fit.t0, hr.fit.rms);
     }
 
     // Restart: the driver's whole state, including the recording and hold curves gathered so far,
@@ -380,6 +383,8 @@ protected:
         put("inHold", inHold_ ? 1 : 0);
         put("settling", settling_ ? 1 : 0);
         put("settleStart", settleStart_);
+        put("paused", paused_ ? 1 : 0);
+        put("pauseStart", pauseStart_);
         std::string cols;
         for (const auto& c : rec_.columns) {
             if (!cols.empty()) cols += ' ';
@@ -390,7 +395,8 @@ protected:
         for (const auto& h : holds_) {
             kv.emplace_back("hold", joinNumbers({double(h.step), h.creep ? 1.0 : 0.0, h.labStart, h.labDuration, h.stressStart,
                                                  h.stressEnd, h.strainStart, h.strainEnd, h.maxEkEp, h.fit.C, h.fit.t0,
-                                                 h.fit.rms, h.fit.ok ? 1.0 : 0.0, double(h.samples), double(h.samplesAbove), h.settleDem}));
+                                                 h.fit.rms, h.fit.ok ? 1.0 : 0.0, double(h.samples), double(h.samplesAbove), h.settleDem,
+                                                 double(h.pauses), double(h.forcedResumes), h.pauseDem}));
             kv.emplace_back("holdT", joinNumbers(h.t));
             kv.emplace_back("holdS", joinNumbers(h.s));
         }
@@ -422,6 +428,8 @@ protected:
             else if (k == "inHold") inHold_ = num() != 0;
             else if (k == "settling") settling_ = num() != 0;
             else if (k == "settleStart") settleStart_ = num();
+            else if (k == "paused") paused_ = num() != 0;
+            else if (k == "pauseStart") pauseStart_ = num();
             else if (k == "recColumns") {
                 std::istringstream is(v);
                 for (std::string c; is >> c;)
@@ -429,7 +437,7 @@ protected:
             } else if (k == "recRow") rec_.rows.push_back(splitNumbers(v, k));
             else if (k == "hold") {
                 const std::vector<double> a = splitNumbers(v, k);
-                if (a.size() != 16) inputError("restart file: bad hold record");
+                if (a.size() != 16 && a.size() != 19) inputError("restart file: bad hold record");
                 HoldResult h;
                 h.step = static_cast<int>(a[0]);
                 h.creep = a[1] != 0;
@@ -437,6 +445,8 @@ protected:
                 h.strainStart = a[6], h.strainEnd = a[7], h.maxEkEp = a[8];
                 h.fit.C = a[9], h.fit.t0 = a[10], h.fit.rms = a[11], h.fit.ok = a[12] != 0;
                 h.samples = static_cast<long>(a[13]), h.samplesAbove = static_cast<long>(a[14]), h.settleDem = a[15];
+                if (a.size() == 19)  // restart files before the clock pauses hold 16 numbers
+                    h.pauses = static_cast<long>(a[16]), h.forcedResumes = static_cast<long>(a[17]), h.pauseDem = a[18];
                 holds_.push_back(h);
             } else if (k == "holdT" || k == "holdS") {
                 if (holds_.empty()) inputError("restart file: hold samples before their hold");
@@ -523,11 +533,13 @@ private:
             holds_.push_back(hr);
             inHold_ = true;
             settling_ = true;
+            paused_ = false;
             settleStart_ = time();
             if (holdSettle_ <= 0) startHoldClock();
         } else {
             inHold_ = false;
             settling_ = false;
+            paused_ = false;
         }
     }
     /// The hold's clock starts (after the mechanical settling): Eq. 4.3's f_max is the stress now.
@@ -583,8 +595,21 @@ private:
         if (inHold_ && !settling_) {
             HoldResult& hr = holds_.back();
             hr.maxEkEp = std::max(hr.maxEkEp, ratio);
-            ++hr.samples;
-            if (ratio > 1e-4) ++hr.samplesAbove;
+            if (!paused_) {
+                // the state reached while the clock ran: a sample above the threshold is a
+                // rearrangement event, and the clock stands still until the bed has settled again
+                ++hr.samples;
+                if (ratio > 1e-4) ++hr.samplesAbove;
+                if (holdSettle_ > 0 && ratio > holdSettle_ && !force) {
+                    paused_ = true;
+                    pauseStart_ = time();
+                    ++hr.pauses;
+                }
+            } else if (ratio <= holdSettle_ || time() - pauseStart_ >= holdSettleMax_ || force) {
+                if (ratio > holdSettle_) ++hr.forcedResumes;
+                hr.pauseDem += time() - pauseStart_;
+                paused_ = false;
+            }
             if (labTime_ > hr.t.back()) {
                 hr.t.push_back(labTime_);
                 hr.s.push_back(sAx);
@@ -650,6 +675,9 @@ private:
                                   {"settle_dem_s", hr.settleDem},
                                   {"max_Ek_over_Ep", hr.maxEkEp},
                                   {"fraction_Ek_over_Ep_above_1e-4", hr.samples > 0 ? double(hr.samplesAbove) / double(hr.samples) : 0.0},
+                                  {"clock_pauses", hr.pauses},
+                                  {"clock_pauses_ended_by_hold_settle_max", hr.forcedResumes},
+                                  {"pause_dem_s", hr.pauseDem},
                                   {"fit_C", hr.fit.C},
                                   {"fit_t0_s", hr.fit.t0},
                                   {"fit_rms", hr.fit.rms}}));
@@ -674,8 +702,8 @@ private:
     double pistonZ_ = 0, pistonZ0_ = 0, pistonV_ = 0, labTime_ = 0, labScale_ = 0, stepLabStart_ = 0, creepStress_ = 1;
     double rampStartStress_ = 0;
     double solid_ = 0, fillTime_ = 0, maxInertial_ = 0;
-    bool inHold_ = false, restarted_ = false, settling_ = false;
-    double holdSettle_ = 1e-4, holdSettleMax_ = 0.05, settleStart_ = 0;
+    bool inHold_ = false, restarted_ = false, settling_ = false, paused_ = false;
+    double holdSettle_ = 1e-4, holdSettleMax_ = 0.05, settleStart_ = 0, pauseStart_ = 0;
     std::vector<HoldResult> holds_;
     recording::Recording rec_;
 };

@@ -1,11 +1,14 @@
 // OedometerRelaxation, small laterally periodic bed (frictional, non-cohesive material), ramp to
 // 5 kPa then a hold of 300 lab seconds at constant piston position, twice:
-//  1. relaxation off (relax_C 0): the axial stress during the hold stays within 1 % of its start
-//     value, and the run is quasi-static (Ek/Ep <= 1e-4 at the end of the hold);
+//  1. relaxation off (relax_C 0): the ramp reaches the target; the hold starts within 1 % of it (the
+//     hold's f_max is the stress after the mechanical settling at fixed piston, which may give a
+//     little); the axial stress during the hold stays within 1 % of its start value, and the run is
+//     quasi-static (Ek/Ep <= 1e-4 at the end of the hold);
 //  2. relaxation on (C = 0.0792, t0 = 0.2894 s, Table 4.4 R1 lambdameter): the stress decays, the
 //     fitted macroscopic C of Eq. 4.3 is within 30 % of the contact C, and the decay is at least
-//     half of the contact-level prediction 1 - (1 + 300/t0)^(-C), and E_k/E_p <= 1e-4 in at least
-//     95 % of the hold samples (isolated rearrangement events excepted).
+//     half of the contact-level prediction 1 - (1 + 300/t0)^(-C); E_k/E_p <= 1e-4 in at least 95 %
+//     of the samples taken while the lab clock ran (each sample above starts a clock pause, a
+//     rearrangement event), and the pauses cost less DEM time than the hold itself.
 // Also: the written recording and protocol files pass the format validator.
 #include <cmath>
 
@@ -31,7 +34,14 @@ int main() {
             for (double s : h.s) worst = std::max(worst, std::abs(s / h.stressStart - 1));
             std::printf("     relaxation off: stress %.6g -> %.6g Pa, largest deviation %.3g %%, max Ek/Ep %.3g\n",
                         h.stressStart, h.stressEnd, 100 * worst, h.maxEkEp);
-            ok &= check(h.stressStart >= 5000, "hold starts at the target stress");
+            const auto& r0 = d.recordingData();
+            const int cs = r0.column("step"), ca = r0.column("axial_stress_Pa");
+            double rampMax = 0;
+            for (const auto& row : r0.rows)
+                if (cs >= 0 && ca >= 0 && row[static_cast<std::size_t>(cs)] == 0) rampMax = std::max(rampMax, row[static_cast<std::size_t>(ca)]);
+            std::printf("     ramp ends at %.6g Pa\n", rampMax);
+            ok &= check(rampMax >= 5000, "the ramp reaches the target stress");
+            ok &= check(std::abs(h.stressStart / 5000 - 1) <= 0.01, "hold starts within 1 % of the target stress");
             ok &= check(worst < 0.01, "stress constant within 1 % during the hold without relaxation");
             const auto& rec = d.recordingData();
             const int c = rec.column("Ek_over_Ep");
@@ -56,11 +66,14 @@ int main() {
             ok &= check(h.fit.ok && std::abs(h.fit.C - C) < 0.3 * C, "fitted macroscopic C within 30 % of the contact C");
             ok &= check(h.fit.rms < 0.02, "Eq. 4.3 describes the hold curve (rms < 0.02)");
             const double above = h.samples > 0 ? double(h.samplesAbove) / double(h.samples) : 1.0;
-            std::printf("     max Ek/Ep during the hold %.3g, %.3g %% of %ld samples above 1e-4\n", h.maxEkEp, 100 * above, h.samples);
-            // Isolated rearrangement events (a force chain giving way as contacts relax, a rattler
-            // dropping through a pore under gravity) raise E_k/E_p for a short DEM time that does not
-            // depend on the hold clock; the rest of the hold must be quiet.
-            ok &= check(h.samples > 100 && above <= 0.05, "quasi-static during the relaxing hold (Ek/Ep <= 1e-4 in >= 95 % of samples)");
+            const double holdDem = 0.02 * std::log1p(h.labDuration / t0);  // log clock, hold_tau 0.02 s
+            std::printf("     max Ek/Ep during the hold %.3g, %.3g %% of %ld clock-running samples above 1e-4, "
+                        "%ld clock pauses (%ld ended by hold_settle_max) costing %.3g DEM s (hold %.3g DEM s)\n",
+                        h.maxEkEp, 100 * above, h.samples, h.pauses, h.forcedResumes, h.pauseDem, holdDem);
+            // Rearrangement events (a force chain giving way as contacts relax, a rattler dropping
+            // through a pore) are instantaneous in lab time: the clock pauses while they last.
+            ok &= check(h.samples > 100 && above <= 0.05, "quasi-static while the lab clock runs (Ek/Ep <= 1e-4 in >= 95 % of samples)");
+            ok &= check(h.pauseDem < holdDem, "clock pauses cost less DEM time than the hold");
         } else {
             ok &= check(false, "one hold");
         }
