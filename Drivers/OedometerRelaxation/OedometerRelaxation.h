@@ -7,7 +7,9 @@
 // lab time advances by dt * S per DEM step with S = (t0 + t_hold)/hold_tau during holds (log clock;
 // or S = time_scale, linear clock) and S = (DEM piston speed)/(lab piston speed) during ramps, so the
 // recording's time axis is lab time.
-// Header-only so that the self-tests can run the driver in-process.
+// Header-only so that the self-tests can run the driver in-process. Material presets are in
+// OedometerMaterial.h, the per-hold results in OedometerHold.h; the pour is the kernel's
+// PourSimulation, the recording format and fits are Tools/Recording.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -24,50 +26,14 @@
 #include "IO/AtomicFile.h"
 #include "IO/Json.h"
 #include "IO/NumberFormat.h"
+#include "IO/StateFields.h"
 #include "Particles/Insertion.h"
+#include "OedometerHold.h"
+#include "OedometerMaterial.h"
 #include "Particles/PourSimulation.h"
 #include "Recording.h"
 
 namespace pdpm {
-
-/// Material parameters of one preset (chapter 5, Table 5.3, for "cocoa").
-struct OedometerMaterial {
-    std::string name;
-    double density = 1427, dMean = 2.5e-3, sizeRatio = 3;
-    ContactParameters pp, pw;  ///< particle-particle and particle-wall
-};
-
-inline OedometerMaterial oedometerMaterial(const std::string& name, double muWall) {
-    OedometerMaterial m;
-    m.name = name;
-    ContactParameters c;
-    c.k = 24067;  // Table 5.3: maximal elastic stiffness k (kg/s^2)
-    c.gamma = 0.0827;
-    c.kt = 0.286 * c.k;
-    c.gammaT = 0.286 * c.gamma;
-    c.kr = 0.286 * c.k;
-    c.gammaR = 0.286 * c.gamma;
-    c.muS = c.muD = 0.5;
-    if (name == "cocoa") {
-        c.k1 = c.k / 5;  // k/k1 = 5 (see data/thesis table_5_2_5_3 note)
-        c.kc = 0.873 * c.k;
-        c.phiF = 0.05;
-        c.muR = 0.5;
-    } else if (name == "frictional") {  // non-cohesive, elastic: Luding with k1 = k, kc = 0
-        c.k1 = c.k;
-        c.kc = 0;
-        c.phiF = 0;
-        c.muR = 0.1;
-    } else {
-        inputError("--material: unknown material '" + name + "' (cocoa, frictional)");
-    }
-    m.pp = c;
-    m.pw = c;
-    m.pw.muS = m.pw.muD = muWall;
-    m.pw.muR = 0;
-    m.pw.kc = 0;  // walls are not sticky
-    return m;
-}
 
 class OedometerRelaxation : public DPMBase {
 public:
@@ -96,35 +62,35 @@ public:
         p.add("hold_settle_max", &holdSettleMax_, 0.05, "s", "longest DEM time a hold's clock waits for settling (at the start and per pause)", Range::nonNegative());
         p.add("time_scale", &timeScale_, 2e3, "lab s / DEM s", "linear hold clock: lab seconds per DEM second", Range::positive());
         p.add("ramp_rate", &rampRate_, 0.5, "1/s", "DEM axial strain rate of ramps and unloads", Range::positive());
+        p.add("pour_drag_time", &pourDragTime_, 0.1, "s", "drag time of the particles falling while filling (mass-proportional drag; terminal speed g x this)", Range::positive());
         p.add("approach", &approach_, 0.2, "-", "ramps slow down over this fraction of the target stress", Range::openClosed(0, 1));
         p.add("record_every", &recordEvery_, 100L, "steps", "DEM steps between recorded samples", Range::atLeast(1));
         p.add("dt_fraction", &dtFraction_, 25, "-", "time step = t_c / dt_fraction", Range::atLeast(10));
         p.add("gravity", &gravityOn_, true, "gravity along -z");
         p.add("max_strain", &maxStrain_, 0.5, "-", "a ramp stops (with a warning) at this axial strain", Range::open(0, 0.9));
-        p.addPreset("ft4", "FT4 rheometer: cylinder D = H = 50 mm, protocol 1 capped at 22 kPa",
+        // The mould presets hold thousands of particles: they also take the faster numerical settings
+        // whose effect on a hold was measured to be small (driver documentation, "Cost").
+        p.addPreset("ft4", "FT4 rheometer: cylinder D = H = 50 mm, protocol 1 capped at 22 kPa (faster numerical settings)",
                     {{"geometry", "cylinder"}, {"device", "ft4"}, {"diameter", "0.05"}, {"fill_height_m", "0.05"},
-                     {"protocol", "1"}, {"max_stress", "22000"}});
-        p.addPreset("lambdameter", "lambdameter: cylinder D = 149 mm, H = 60 mm, protocol 1 to 25 kPa",
+                     {"protocol", "1"}, {"max_stress", "22000"}, {"hold_tau", "0.01"}, {"ramp_rate", "1"}});
+        p.addPreset("lambdameter", "lambdameter: cylinder D = 149 mm, H = 60 mm, protocol 1 to 25 kPa (faster numerical settings)",
                     {{"geometry", "cylinder"}, {"device", "lambdameter"}, {"diameter", "0.149"}, {"fill_height_m", "0.06"},
-                     {"protocol", "1"}, {"max_stress", "25000"}});
+                     {"protocol", "1"}, {"max_stress", "25000"}, {"hold_tau", "0.01"}, {"ramp_rate", "1"}});
         p.set("vtk", "0");
         p.set("restart_output", "0");
         p.set("contact_law", "luding-relax");
+        // driver state in restart files (besides the recording and the holds)
+        state_.add("pistonZ", pistonZ_).add("pistonZ0", pistonZ0_).add("pistonV", pistonV_).add("labTime", labTime_)
+            .add("labScale", labScale_).add("stepLabStart", stepLabStart_).add("rampStartStress", rampStartStress_)
+            .add("creepStress", creepStress_).add("solid", solid_).add("fillTime", fillTime_).add("poured", poured_)
+            .add("maxInertial", maxInertial_).add("stepIndex", stepIndex_).add("pistonWall", pistonWall_)
+            .add("bottomWall", bottomWall_).add("mouldWall", mouldWall_).add("inHold", inHold_)
+            .add("settling", settling_).add("settleStart", settleStart_).add("paused", paused_)
+            .add("pauseStart", pauseStart_);
     }
 
     // ---- results (for self-tests) -------------------------------------------------------------
-    struct HoldResult {
-        int step = 0;
-        bool creep = false;
-        double labStart = 0, labDuration = 0;
-        double stressStart = 0, stressEnd = 0, strainStart = 0, strainEnd = 0;
-        double maxEkEp = 0, settleDem = 0;  ///< settleDem: DEM seconds waited before the clock started
-        long samples = 0, samplesAbove = 0;  ///< samples taken while the lab clock ran, and those with E_k/E_p > 1e-4
-        long pauses = 0, forcedResumes = 0;  ///< clock pauses (rearrangement events), and pauses ended by hold_settle_max
-        double pauseDem = 0;                 ///< DEM seconds the clock stood still after it had started
-        recording::RelaxationFit fit;
-        std::vector<double> t, s;  // lab time, axial stress samples of the hold
-    };
+    using HoldResult = OedometerHold;
     const std::vector<HoldResult>& holds() const { return holds_; }
     const recording::Recording& recordingData() const { return rec_; }
     double maxInertialNumber() const { return maxInertial_; }
@@ -178,21 +144,12 @@ protected:
         // ---- fill: grid in a tall column, settle under gravity ------------------------------------
         // Settling without adhesion (a dense, reproducible start, like the FT4 conditioning), no relaxation.
         PourSimulation fill(runName() + "_fill");
+        fill.dragTime = pourDragTime_;
         fill.setQuiet(quiet());
         setupSpecies(fill, 0, true);
         // staggered grid in a tall column (no vertical stacks), clipped to the mould
-        const double s = 2.05 * rMax, off = cylinder() ? -R : 0;
-        const int nxy = std::max(1, static_cast<int>(std::floor(lx / s - (cylinder() ? 0 : 0.5))));
-        std::vector<Vec3> pts;
-        for (int layer = 0; pts.size() < n; ++layer) {
-            if (layer > 100000) inputError("mould too narrow for the particles");
-            const double sh = (layer % 2) * 0.5 * s;
-            for (int ix = 0; ix < nxy; ++ix)
-                for (int iy = 0; iy < nxy && pts.size() < n; ++iy) {
-                    const Vec3 x{off + (ix + 0.5) * s + sh, off + (iy + 0.5) * s + sh, (layer + 0.5) * s};
-                    if (!cylinder() || std::hypot(x.x, x.y) <= R - 1.02 * rMax) pts.push_back(x);
-                }
-        }
+        const double s = 2.05 * rMax;
+        const std::vector<Vec3> pts = staggeredColumn(n, s, lx, cylinder() ? R : 0.0, 1.02 * rMax);
         setDomainFor(fill, lx, R, pts.back().z + 2 * s);
         fill.addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, 1));
         if (cylinder()) fill.addWall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, R, 0.0, 1));
@@ -205,6 +162,7 @@ protected:
         fill.setOutput(commonOptions().output, runName() + "_fill");
         fill.pour();
         fillTime_ = fill.time();
+        poured_ = static_cast<double>(n);
 
         // ---- level at H (the FT4 "split") and set up the main simulation ---------------------------
         setupSpecies(*this, relaxC_);
@@ -253,7 +211,8 @@ protected:
         }
         if (!quiet())
             std::cout << "OedometerRelaxation: " << particles().size() << " particles, bed height " << fmt(pistonZ0_)
-                      << " m, dt " << fmt(timeStep()) << " s, fill took " << fmt(fillTime_) << " s DEM\n";
+                      << " m, dt " << fmt(timeStep()) << " s, fill took " << fmt(fillTime_) << " s DEM with " << fmt(poured_)
+                      << " particles poured\n";
     }
 
     bool continueSolve() const override { return stepIndex_ < steps_.size(); }
@@ -352,39 +311,13 @@ protected:
         if (quiet()) return;
         std::cout << "OedometerRelaxation: " << rec_.rows.size() << " samples, lab time " << fmt(labTime_)
                   << " s, max inertial number during ramps " << fmt(maxInertial_) << "\n";
-        for (const auto& hr : holds_)
-            std::printf("  step %d %s: stress %.6g -> %.6g Pa (drop %.4g %%), max Ek/Ep %.3g (%.3g %% of samples above 1e-4; "
-                        "%ld clock pauses, %.3g DEM s), fit C = %.4g, t0 = %.4g s (rms %.2g)\n",
-                        hr.step, hr.creep ? "creep" : "hold", hr.stressStart, hr.stressEnd,
-                        100 * (1 - hr.stressEnd / hr.stressStart), hr.maxEkEp,
-                        hr.samples > 0 ? 100.0 * double(hr.samplesAbove) / double(hr.samples) : 0.0, hr.pauses, hr.pauseDem,
-                        hr.fit.C, hr.fit.t0, hr.fit.rms);
+        for (const auto& hr : holds_) hr.print();
     }
 
     // Restart: the driver's whole state, including the recording and hold curves gathered so far,
     // so that a restarted run writes the same files as a straight one.
     void saveDriverState(std::vector<std::pair<std::string, std::string>>& kv) const override {
-        const auto put = [&kv](const std::string& k, double v) { kv.emplace_back(k, fmt(v)); };
-        put("pistonZ", pistonZ_);
-        put("pistonZ0", pistonZ0_);
-        put("pistonV", pistonV_);
-        put("labTime", labTime_);
-        put("labScale", labScale_);
-        put("stepLabStart", stepLabStart_);
-        put("rampStartStress", rampStartStress_);
-        put("creepStress", creepStress_);
-        put("solid", solid_);
-        put("fillTime", fillTime_);
-        put("maxInertial", maxInertial_);
-        put("stepIndex", static_cast<double>(stepIndex_));
-        put("pistonWall", static_cast<double>(pistonWall_));
-        put("bottomWall", static_cast<double>(bottomWall_));
-        put("mouldWall", static_cast<double>(mouldWall_));
-        put("inHold", inHold_ ? 1 : 0);
-        put("settling", settling_ ? 1 : 0);
-        put("settleStart", settleStart_);
-        put("paused", paused_ ? 1 : 0);
-        put("pauseStart", pauseStart_);
+        state_.save(kv);
         std::string cols;
         for (const auto& c : rec_.columns) {
             if (!cols.empty()) cols += ' ';
@@ -393,10 +326,7 @@ protected:
         kv.emplace_back("recColumns", cols.empty() ? "-" : cols);
         for (const auto& row : rec_.rows) kv.emplace_back("recRow", joinNumbers(row));
         for (const auto& h : holds_) {
-            kv.emplace_back("hold", joinNumbers({double(h.step), h.creep ? 1.0 : 0.0, h.labStart, h.labDuration, h.stressStart,
-                                                 h.stressEnd, h.strainStart, h.strainEnd, h.maxEkEp, h.fit.C, h.fit.t0,
-                                                 h.fit.rms, h.fit.ok ? 1.0 : 0.0, double(h.samples), double(h.samplesAbove), h.settleDem,
-                                                 double(h.pauses), double(h.forcedResumes), h.pauseDem}));
+            kv.emplace_back("hold", joinNumbers(h.numbers()));
             kv.emplace_back("holdT", joinNumbers(h.t));
             kv.emplace_back("holdS", joinNumbers(h.s));
         }
@@ -405,49 +335,14 @@ protected:
         rec_ = recording::Recording{};
         holds_.clear();
         for (const auto& [k, v] : kv) {
-            double x = 0;
-            const auto num = [&]() {
-                if (!parseDouble(v, x)) inputError("restart file: bad value of driver state '" + k + "'");
-                return x;
-            };
-            if (k == "pistonZ") pistonZ_ = num();
-            else if (k == "pistonZ0") pistonZ0_ = num();
-            else if (k == "pistonV") pistonV_ = num();
-            else if (k == "labTime") labTime_ = num();
-            else if (k == "labScale") labScale_ = num();
-            else if (k == "stepLabStart") stepLabStart_ = num();
-            else if (k == "rampStartStress") rampStartStress_ = num();
-            else if (k == "creepStress") creepStress_ = num();
-            else if (k == "solid") solid_ = num();
-            else if (k == "fillTime") fillTime_ = num();
-            else if (k == "maxInertial") maxInertial_ = num();
-            else if (k == "stepIndex") stepIndex_ = static_cast<std::size_t>(num());
-            else if (k == "pistonWall") pistonWall_ = static_cast<std::size_t>(num());
-            else if (k == "bottomWall") bottomWall_ = static_cast<std::size_t>(num());
-            else if (k == "mouldWall") mouldWall_ = static_cast<long>(num());
-            else if (k == "inHold") inHold_ = num() != 0;
-            else if (k == "settling") settling_ = num() != 0;
-            else if (k == "settleStart") settleStart_ = num();
-            else if (k == "paused") paused_ = num() != 0;
-            else if (k == "pauseStart") pauseStart_ = num();
-            else if (k == "recColumns") {
+            if (state_.load(k, v)) continue;
+            if (k == "recColumns") {
                 std::istringstream is(v);
                 for (std::string c; is >> c;)
                     if (c != "-") rec_.columns.push_back(c);
             } else if (k == "recRow") rec_.rows.push_back(splitNumbers(v, k));
             else if (k == "hold") {
-                const std::vector<double> a = splitNumbers(v, k);
-                if (a.size() != 16 && a.size() != 19) inputError("restart file: bad hold record");
-                HoldResult h;
-                h.step = static_cast<int>(a[0]);
-                h.creep = a[1] != 0;
-                h.labStart = a[2], h.labDuration = a[3], h.stressStart = a[4], h.stressEnd = a[5];
-                h.strainStart = a[6], h.strainEnd = a[7], h.maxEkEp = a[8];
-                h.fit.C = a[9], h.fit.t0 = a[10], h.fit.rms = a[11], h.fit.ok = a[12] != 0;
-                h.samples = static_cast<long>(a[13]), h.samplesAbove = static_cast<long>(a[14]), h.settleDem = a[15];
-                if (a.size() == 19)  // restart files before the clock pauses hold 16 numbers
-                    h.pauses = static_cast<long>(a[16]), h.forcedResumes = static_cast<long>(a[17]), h.pauseDem = a[18];
-                holds_.push_back(h);
+                holds_.push_back(OedometerHold::fromNumbers(splitNumbers(v, k)));
             } else if (k == "holdT" || k == "holdS") {
                 if (holds_.empty()) inputError("restart file: hold samples before their hold");
                 (k == "holdT" ? holds_.back().t : holds_.back().s) = splitNumbers(v, k);
@@ -484,25 +379,6 @@ private:
     double holdScale() const {
         if (holdClock_ == "linear") return timeScale_;
         return (relaxT0_ + (labTime_ - stepLabStart_)) / holdTau_;
-    }
-    static std::string joinNumbers(const std::vector<double>& v) {
-        std::string out;
-        for (double x : v) {
-            if (!out.empty()) out += ' ';
-            out += fmt(x);
-        }
-        return out.empty() ? "-" : out;
-    }
-    static std::vector<double> splitNumbers(const std::string& text, const std::string& key) {
-        std::vector<double> out;
-        if (text == "-") return out;
-        std::istringstream is(text);
-        for (std::string w; is >> w;) {
-            double x = 0;
-            if (!parseDouble(w, x)) inputError("restart file: bad number in driver state '" + key + "'");
-            out.push_back(x);
-        }
-        return out;
     }
     double axialStress() const { return walls()[pistonWall_]->force.z / area(); }
     double bottomStress() const { return -walls()[bottomWall_]->force.z / area(); }
@@ -665,22 +541,7 @@ private:
         extra.set("max_inertial_number_ramps", maxInertial_);
         Json hj = Json::array();
         for (const auto& hr : holds_) {
-            hj.push(Json::object({{"step", hr.step},
-                                  {"type", hr.creep ? "hold_stress" : "hold_position"},
-                                  {"lab_start_s", hr.labStart},
-                                  {"stress_start_Pa", hr.stressStart},
-                                  {"stress_end_Pa", hr.stressEnd},
-                                  {"strain_start", hr.strainStart},
-                                  {"strain_end", hr.strainEnd},
-                                  {"settle_dem_s", hr.settleDem},
-                                  {"max_Ek_over_Ep", hr.maxEkEp},
-                                  {"fraction_Ek_over_Ep_above_1e-4", hr.samples > 0 ? double(hr.samplesAbove) / double(hr.samples) : 0.0},
-                                  {"clock_pauses", hr.pauses},
-                                  {"clock_pauses_ended_by_hold_settle_max", hr.forcedResumes},
-                                  {"pause_dem_s", hr.pauseDem},
-                                  {"fit_C", hr.fit.C},
-                                  {"fit_t0_s", hr.fit.t0},
-                                  {"fit_rms", hr.fit.rms}}));
+            hj.push(hr.json());
         }
         extra.set("holds", hj);
         p.extra = extra;
@@ -690,7 +551,7 @@ private:
     // parameters
     std::string geometry_, device_, material_, stepsText_, protocolFile_, holdClock_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0, relaxC_ = 0, relaxT0_ = 0;
-    double holdTau_ = 0.02, approach_ = 0.2, maxStress_ = 0, stressScale_ = 1, timeScale_ = 0, rampRate_ = 0, dtFraction_ = 25, maxStrain_ = 0.5;
+    double holdTau_ = 0.02, pourDragTime_ = 0.1, approach_ = 0.2, maxStress_ = 0, stressScale_ = 1, timeScale_ = 0, rampRate_ = 0, dtFraction_ = 25, maxStrain_ = 0.5;
     int protocolPreset_ = 0;
     long recordEvery_ = 100;
     bool gravityOn_ = true;
@@ -701,10 +562,11 @@ private:
     long mouldWall_ = -1;
     double pistonZ_ = 0, pistonZ0_ = 0, pistonV_ = 0, labTime_ = 0, labScale_ = 0, stepLabStart_ = 0, creepStress_ = 1;
     double rampStartStress_ = 0;
-    double solid_ = 0, fillTime_ = 0, maxInertial_ = 0;
+    double solid_ = 0, fillTime_ = 0, poured_ = 0, maxInertial_ = 0;
     bool inHold_ = false, restarted_ = false, settling_ = false, paused_ = false;
     double holdSettle_ = 1e-4, holdSettleMax_ = 0.05, settleStart_ = 0, pauseStart_ = 0;
     std::vector<HoldResult> holds_;
+    StateFields state_;
     recording::Recording rec_;
 };
 

@@ -94,4 +94,25 @@ std::size_t insertOnGrid(DPMBase& d, const std::vector<double>& radii, const Vec
     return k;
 }
 
+std::vector<Vec3> staggeredColumn(std::size_t n, double spacing, double lx, double radius, double clearance) {
+    const bool disc = radius > 0;
+    const double s = spacing, off = disc ? -radius : 0;
+    const int nxy = std::max(1, static_cast<int>(std::floor(lx / s - (disc ? 0 : 0.5))));
+    std::vector<Vec3> pts;
+    pts.reserve(n);
+    int emptyLayers = 0;  // an even and an odd layer without points: nothing will ever fit
+    for (int layer = 0; pts.size() < n; ++layer) {
+        const std::size_t before = pts.size();
+        const double sh = (layer % 2) * 0.5 * s;
+        for (int ix = 0; ix < nxy; ++ix)
+            for (int iy = 0; iy < nxy && pts.size() < n; ++iy) {
+                const Vec3 x{off + (ix + 0.5) * s + sh, off + (iy + 0.5) * s + sh, (layer + 0.5) * s};
+                if (!disc || std::hypot(x.x, x.y) <= radius - clearance) pts.push_back(x);
+            }
+        emptyLayers = pts.size() == before ? emptyLayers + 1 : 0;
+        if (emptyLayers >= 2) inputError("pour column: no sphere of spacing " + std::to_string(s) + " m fits the cross-section");
+    }
+    return pts;
+}
+
 } // namespace pdpm

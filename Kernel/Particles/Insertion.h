@@ -25,4 +25,10 @@ void insertRandom(DPMBase& d, const std::vector<double>& radii, const Vec3& lo, 
 std::size_t insertOnGrid(DPMBase& d, const std::vector<double>& radii, const Vec3& lo, const Vec3& hi, double spacing,
                          int species = 0);
 
+/// Start positions for pouring n spheres: a staggered grid of spacing `spacing` (odd layers shifted
+/// by spacing/2 along x and y, so that no sphere sits on top of another) in a column rising from
+/// z = 0. Over the square [0, lx]^2 (radius = 0) or, with radius > 0, over the disc of that radius
+/// about the z axis, keeping `clearance` from its rim. InputError if no point fits in a layer.
+std::vector<Vec3> staggeredColumn(std::size_t n, double spacing, double lx, double radius, double clearance);
+
 } // namespace pdpm

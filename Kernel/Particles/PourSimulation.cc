@@ -14,11 +14,17 @@ PourSimulation::PourSimulation(const std::string& name) : DPMBase(name) {
 
 void PourSimulation::actionsBeforeTimeLoop() {
     const ParticleData& P = particles();
-    double m = 0, d = 0;
+    double m = 0, d = 0, zLow = 0, zHigh = 0;
     for (std::size_t i = 0; i < P.size(); ++i) {
         m += P.m[i];
         d += 2 * P.r[i];
+        zLow = i == 0 ? P.x[i].z : std::min(zLow, P.x[i].z);
+        zHigh = i == 0 ? P.x[i].z : std::max(zHigh, P.x[i].z);
     }
+    // fall of the highest particle to the lowest one's height at the terminal speed, plus the
+    // acceleration phase: an upper estimate of the landing time, for the progress line only
+    const double vTerminal = std::max(norm(gravity()) * dragTime, 1e-12);
+    fallTime_ = 2 * dragTime + (zHigh - zLow) / vTerminal;
     const double n = static_cast<double>(std::max<std::size_t>(P.size(), 1));
     restEnergy_ = ekRatio * m * norm(gravity()) * d / n;  // ekRatio * N * m_mean * g * d_mean
     quench_ = quenchTime > 0 ? quenchTime : 20 * minCollisionTime();
@@ -50,7 +56,15 @@ void PourSimulation::actionsAfterTimeStep() {
     if (maxSpeed() < landedFraction * norm(gravity()) * dragTime) {
         landed_ = true;
         landingTime_ = time();
+        landingEnergy_ = kineticEnergy();
     }
+}
+
+double PourSimulation::progressFraction() const {
+    if (!landed_) return fallTime_ > 0 ? 0.9 * std::min(time() / fallTime_, 1.0) : 0.0;
+    const double ek = kineticEnergy();
+    if (!(landingEnergy_ > restEnergy_) || !(ek > 0)) return 1;
+    return 0.9 + 0.1 * std::clamp(std::log(landingEnergy_ / ek) / std::log(landingEnergy_ / restEnergy_), 0.0, 1.0);
 }
 
 bool PourSimulation::continueSolve() const {

@@ -33,11 +33,14 @@ protected:
     void computeAdditionalForces() override;
     void actionsAfterTimeStep() override;
     bool continueSolve() const override;
+    /// Progress: 90 % for the fall (time against the fall time of the highest particle at the
+    /// terminal speed), 10 % for the quench (log of E_k from landing down to the rest energy).
+    double progressFraction() const override;
 
 private:
     double maxSpeed() const;
     bool landed_ = false;
-    double landingTime_ = -1, restEnergy_ = 0, quench_ = 0;
+    double landingTime_ = -1, restEnergy_ = 0, quench_ = 0, fallTime_ = 0, landingEnergy_ = 0;
 };
 
 } // namespace pdpm

@@ -1,0 +1,82 @@
+// Named scalar fields of a driver's own state, for restart files: a driver binds each member once
+// (in its constructor), and saveDriverState / loadDriverState call save() and load(), so the list
+// of fields exists in one place. Values are written with fmt() (round-trip exact).
+#pragma once
+#include <cstddef>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "Core/Error.h"
+#include "IO/NumberFormat.h"
+
+namespace pdpm {
+
+class StateFields {
+public:
+    using KeyValues = std::vector<std::pair<std::string, std::string>>;
+
+    template <class T>
+    StateFields& add(const std::string& name, T& member) {
+        fields_.push_back({name, &member});
+        return *this;
+    }
+
+    void save(KeyValues& kv) const {
+        for (const auto& f : fields_)
+            std::visit([&](auto* p) { kv.emplace_back(f.name, fmt(static_cast<double>(*p))); }, f.target);
+    }
+
+    /// Sets the field `key` from `value`; false if `key` is not a field. A malformed number is an
+    /// input error naming the field.
+    bool load(const std::string& key, const std::string& value) const {
+        for (const auto& f : fields_) {
+            if (f.name != key) continue;
+            double x = 0;
+            if (!parseDouble(value, x)) inputError("restart file: bad value of driver state '" + key + "'");
+            std::visit(
+                [x](auto* p) {
+                    using T = std::remove_pointer_t<decltype(p)>;
+                    if constexpr (std::is_same_v<T, bool>) *p = x != 0;
+                    else *p = static_cast<T>(x);
+                },
+                f.target);
+            return true;
+        }
+        return false;
+    }
+
+private:
+    struct Field {
+        std::string name;
+        std::variant<double*, bool*, std::size_t*, long*, int*> target;
+    };
+    std::vector<Field> fields_;
+};
+
+/// Numbers separated by single spaces (fmt), "-" for none; splitNumbers() reads them back and
+/// names `key` in the message on a malformed number.
+inline std::string joinNumbers(const std::vector<double>& v) {
+    std::string out;
+    for (double x : v) {
+        if (!out.empty()) out += ' ';
+        out += fmt(x);
+    }
+    return out.empty() ? "-" : out;
+}
+inline std::vector<double> splitNumbers(const std::string& text, const std::string& key) {
+    std::vector<double> out;
+    if (text == "-") return out;
+    std::istringstream is(text);
+    for (std::string w; is >> w;) {
+        double x = 0;
+        if (!parseDouble(w, x)) inputError("restart file: bad number in driver state '" + key + "'");
+        out.push_back(x);
+    }
+    return out;
+}
+
+} // namespace pdpm

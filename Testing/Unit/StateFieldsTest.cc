@@ -1,0 +1,85 @@
+// StateFields (driver state in restart files) and the staggered pour column.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "Core/Error.h"
+#include "IO/StateFields.h"
+#include "Particles/Insertion.h"
+
+using namespace pdpm;
+
+TEST(StateFields, RoundTripIsExact) {
+    double a = 0.1 + 0.2, tiny = std::numeric_limits<double>::denorm_min();
+    bool flag = true;
+    std::size_t index = 123456789012ULL;
+    long neg = -42;
+    int small = 7;
+    StateFields out;
+    out.add("a", a).add("tiny", tiny).add("flag", flag).add("index", index).add("neg", neg).add("small", small);
+    StateFields::KeyValues kv;
+    out.save(kv);
+    ASSERT_EQ(kv.size(), 6u);
+
+    double a2 = 0, tiny2 = 1;
+    bool flag2 = false;
+    std::size_t index2 = 0;
+    long neg2 = 0;
+    int small2 = 0;
+    StateFields in;
+    in.add("a", a2).add("tiny", tiny2).add("flag", flag2).add("index", index2).add("neg", neg2).add("small", small2);
+    for (const auto& [k, v] : kv) EXPECT_TRUE(in.load(k, v)) << k;
+    EXPECT_EQ(a2, a);  // bitwise: fmt() writes 17 significant digits
+    EXPECT_EQ(tiny2, tiny);
+    EXPECT_EQ(flag2, flag);
+    EXPECT_EQ(index2, index);
+    EXPECT_EQ(neg2, neg);
+    EXPECT_EQ(small2, small);
+}
+
+TEST(StateFields, UnknownKeyIsLeftToTheCallerAndBadNumberIsAnInputError) {
+    double x = 1;
+    StateFields f;
+    f.add("x", x);
+    EXPECT_FALSE(f.load("y", "2"));
+    EXPECT_EQ(x, 1);
+    EXPECT_THROW(f.load("x", "2.0abc"), InputError);
+    EXPECT_THROW(f.load("x", ""), InputError);
+}
+
+TEST(StateFields, NumberListsRoundTrip) {
+    const std::vector<double> v = {1.0 / 3.0, -2e-300, 0, 12345.678};
+    EXPECT_EQ(splitNumbers(joinNumbers(v), "k"), v);
+    EXPECT_EQ(joinNumbers({}), "-");
+    EXPECT_TRUE(splitNumbers("-", "k").empty());
+    EXPECT_THROW(splitNumbers("1 x 3", "k"), InputError);
+}
+
+TEST(StaggeredColumn, SpacingLayersAndDiscClearance) {
+    const double s = 1.0, R = 4.0, clearance = 0.5;
+    const auto pts = staggeredColumn(500, s, 2 * R, R, clearance);
+    ASSERT_EQ(pts.size(), 500u);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        EXPECT_LE(std::hypot(pts[i].x, pts[i].y), R - clearance + 1e-12);
+        for (std::size_t j = 0; j < i; ++j) {
+            const double dx = pts[i].x - pts[j].x, dy = pts[i].y - pts[j].y, dz = pts[i].z - pts[j].z;
+            EXPECT_GE(dx * dx + dy * dy + dz * dz, s * s - 1e-9);
+        }
+    }
+    // odd layers are shifted by s/2 in x and y: no point has one straight above it in the next layer
+    for (const auto& p : pts)
+        for (const auto& q : pts)
+            if (std::abs(q.z - p.z - s) < 1e-9) {
+                EXPECT_FALSE(std::abs(q.x - p.x) < 1e-9 && std::abs(q.y - p.y) < 1e-9);
+            }
+    // square cross-section: all points inside [0, lx]^2
+    const auto sq = staggeredColumn(100, s, 5.0, 0, 0);
+    for (const auto& p : sq) {
+        EXPECT_GT(p.x, 0);
+        EXPECT_LT(p.x, 5.0);
+        EXPECT_GT(p.y, 0);
+        EXPECT_LT(p.y, 5.0);
+    }
+    EXPECT_THROW(staggeredColumn(10, s, 1.0, 0.5, 0.6), InputError);  // nothing fits the disc
+}
