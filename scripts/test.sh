@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds and runs the fast test suite (everything except the labels "validation" and "benchmark").
 #   scripts/test.sh              the normal suite (Release build in build/)
-#   scripts/test.sh --sanitize   the sanitizer suite: unit + selftest under ASan/UBSan (build-sanitize/)
+#   scripts/test.sh --sanitize   the sanitizer suite: unit + selftest (not "heavy") under ASan/UBSan (build-sanitize/)
 #   scripts/test.sh --all        both (what .ci/run does)
 #   scripts/test.sh --quick      the normal suite (kept for compatibility: same as no flag)
 # Exits non-zero if any test fails.
@@ -29,10 +29,12 @@ run_normal() {
 
 run_sanitize() {
   scripts/build.sh --sanitize
-  echo "== test.sh: sanitizer suite (build-sanitize/, labels unit|selftest)" >&2
+  # the quick subset: unit tests and self-tests except the three labelled "heavy" (5-7 min each
+  # under the sanitizers; the normal suite runs them)
+  echo "== test.sh: sanitizer suite (build-sanitize/, labels unit|selftest, not heavy)" >&2
   ASAN_OPTIONS=detect_leaks=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-sanitize --output-on-failure -j2 -L 'unit|selftest'
+    ctest --test-dir build-sanitize --output-on-failure -j2 -L 'unit|selftest' -LE heavy
 }
 
 if [[ $sanitize_only -eq 1 ]]; then

