@@ -72,10 +72,10 @@ public:
         // whose effect on a hold was measured to be small (driver documentation, "Cost").
         p.addPreset("ft4", "FT4 rheometer: cylinder D = H = 50 mm, protocol 1 capped at 22 kPa (faster numerical settings)",
                     {{"geometry", "cylinder"}, {"device", "ft4"}, {"diameter", "0.05"}, {"fill_height_m", "0.05"},
-                     {"protocol", "1"}, {"max_stress", "22000"}, {"hold_tau", "0.01"}, {"ramp_rate", "1"}});
+                     {"protocol", "1"}, {"max_stress", "22000"}, {"hold_tau", "0.005"}, {"ramp_rate", "1"}});
         p.addPreset("lambdameter", "lambdameter: cylinder D = 149 mm, H = 60 mm, protocol 1 to 25 kPa (faster numerical settings)",
                     {{"geometry", "cylinder"}, {"device", "lambdameter"}, {"diameter", "0.149"}, {"fill_height_m", "0.06"},
-                     {"protocol", "1"}, {"max_stress", "25000"}, {"hold_tau", "0.01"}, {"ramp_rate", "1"}});
+                     {"protocol", "1"}, {"max_stress", "25000"}, {"hold_tau", "0.005"}, {"ramp_rate", "1"}});
         p.set("vtk", "0");
         p.set("restart_output", "0");
         p.set("contact_law", "luding-relax");
@@ -133,12 +133,13 @@ protected:
         double lx = width_ * dMean_;
         double R = 0.5 * diameter_;
         if (cylinder()) lx = diameter_;
-        // Particle count: a settled polydisperse bed reaches a volume fraction of about 0.6; pour 25 %
-        // more so that the levelling at H (the split) has something to remove.
+        // Particle count: the poured beds settle at a volume fraction of 0.53-0.57 (0.533 in the FT4
+        // mould); pour 15 % more than a bed at 0.55 so that the levelling at H (the split) has
+        // something to remove (a warning says when the bed ends up below H).
         const double meanR3 = (std::pow(rMax, 4) - std::pow(rMin, 4)) / (4 * (rMax - rMin));
         const double vp = 4.0 / 3.0 * std::numbers::pi * meanR3;
         const double a = cylinder() ? std::numbers::pi * R * R : lx * lx;
-        const auto n = static_cast<std::size_t>(std::ceil(1.25 * 0.6 * a * H / vp));
+        const auto n = static_cast<std::size_t>(std::ceil(1.15 * 0.55 * a * H / vp));
         auto radii = uniformRadii(n, rMin, rMax, random());
 
         // ---- fill: grid in a tall column, settle under gravity ------------------------------------
@@ -154,9 +155,12 @@ protected:
         fill.addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, 1));
         if (cylinder()) fill.addWall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, R, 0.0, 1));
         std::shuffle(radii.begin(), radii.end(), random());  // uniformRadii sorts them: mix the sizes
+        // the column starts at the terminal speed g * pour_drag_time (it would reach it after about a
+        // drag time; every particle lands at that speed either way), with a random sideways jitter
         std::uniform_real_distribution<double> U(-1, 1);
+        const double vFall = 9.81 * pourDragTime_;
         for (std::size_t k = 0; k < n; ++k)
-            fill.addParticle(pts[k], radii[k], 0, Vec3{0.2 * U(random()), 0.2 * U(random()), -0.2});
+            fill.addParticle(pts[k], radii[k], 0, Vec3{0.2 * U(random()), 0.2 * U(random()), -vFall});
         fill.setGravity({0, 0, -9.81});
         fill.setTimeStep(fill.minCollisionTime() / dtFraction_);
         fill.setOutput(commonOptions().output, runName() + "_fill");
@@ -175,6 +179,8 @@ protected:
             solid += 4.0 / 3.0 * std::numbers::pi * std::pow(F.r[i], 3);
         }
         if (particles().size() < 10) inputError("fill produced fewer than 10 particles below the fill height");
+        if (particles().size() == n && !quiet())
+            std::cerr << "OedometerRelaxation: warning: the poured bed (top " << fmt(top) << " m) did not reach the fill height " << fmt(H) << " m: nothing levelled away\n";
         solid_ = solid;
         setDomainFor(*this, lx, R, top * 1.5 + 4 * rMax);
         addWall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, 1));
@@ -242,6 +248,10 @@ protected:
         return (static_cast<double>(stepIndex_) + std::clamp(inner, 0.0, 1.0)) / static_cast<double>(steps_.size());
     }
 
+    static constexpr double kMinApproachSpeed = 0.05;
+    /// Piston speed as a fraction of the ramp speed for the remaining relative stress gap.
+    double approachSpeed(double gap) const { return std::clamp(std::sqrt(std::max(gap, 0.0) / approach_), kMinApproachSpeed, 1.0); }
+
     void actionsBeforeTimeStep() override {
         const double dt = timeStep();
         const recording::Step& st = steps_[stepIndex_];
@@ -249,17 +259,21 @@ protected:
         const double h = pistonZ_;
         const double vRamp = rampRate_ * pistonZ0_;
         switch (st.kind) {
-            // Ramps slow down over the last approachFraction of the stress change (down to 1 % of
-            // the speed) so that the piston stops quasi-statically; the lab clock follows the speed.
+            // Ramps brake over the last `approach` fraction of the target stress so that the piston
+            // stops quasi-statically: speed ~ sqrt(remaining gap), a constant deceleration in stress
+            // that reaches the target in finite time (a speed proportional to the gap approaches it
+            // exponentially and spent 80 % of a ramp in the tail), never below kMinApproachSpeed of
+            // the ramp speed (E_k ~ speed^2: 0.25 % of the ramp's kinetic energy at the stop). The
+            // lab clock follows the speed.
             case recording::Step::Kind::Ramp: {
                 const double gap = (st.targetStress - axialStress()) / std::max(st.targetStress, 1.0);
-                v = -vRamp * std::clamp(gap / approach_, 0.01, 1.0);
+                v = -vRamp * approachSpeed(gap);
                 setLabScale(std::abs(v) / st.velocity);
                 break;
             }
             case recording::Step::Kind::Unload: {
                 const double gap = (axialStress() - st.targetStress) / std::max(rampStartStress_, 1.0);
-                v = vRamp * std::clamp(gap / approach_, 0.01, 1.0);
+                v = vRamp * approachSpeed(gap);
                 setLabScale(std::abs(v) / st.velocity);
                 break;
             }

@@ -73,12 +73,8 @@ public:
             std::size_t nHit = 0;
             if (screen) {
                 for (std::size_t k = c0; k < c1; ++k) {
-                    const uint32_t i = pi[k], j = pj[k];
-                    double dx = x[i].x - x[j].x, dy = x[i].y - x[j].y, dz = x[i].z - x[j].z;
-                    if constexpr (kPeriodic) img.apply(dx, dy, dz);
-                    const double rs = r[i] + r[j];
-                    const double d2 = dx * dx + dy * dy + dz * dz;
-                    const bool touching = d2 < rs * rs;
+                    double dx, dy, dz, d2;
+                    const bool touching = separation<kPeriodic>(pi[k], pj[k], x, r, img, dx, dy, dz, d2);
                     hit[nHit] = static_cast<uint32_t>(k - c0);
                     sdx[nHit] = dx;
                     sdy[nHit] = dy;
@@ -103,11 +99,8 @@ public:
             } else {
                 for (std::size_t k = c0; k < c1; ++k) {
                     const uint32_t i = pi[k], j = pj[k];
-                    double dx = x[i].x - x[j].x, dy = x[i].y - x[j].y, dz = x[i].z - x[j].z;
-                    if constexpr (kPeriodic) img.apply(dx, dy, dz);
-                    const double rs = r[i] + r[j];
-                    const double d2 = dx * dx + dy * dy + dz * dz;
-                    if (d2 < rs * rs) {
+                    double dx, dy, dz, d2;
+                    if (separation<kPeriodic>(i, j, x, r, img, dx, dy, dz, d2)) {
                         ++nHit;
                         contact(k, i, j, dx, dy, dz, d2, x, v, w, r, invM, m, sp, f, t, hist, spt, dt, time,
                                          rec, energy);
@@ -119,6 +112,21 @@ public:
             }
             screen = 8 * nHit < 7 * (c1 - c0);
         }
+    }
+
+    /// Separation x_i - x_j of a pair (minimum image if periodic) and its squared length; true if
+    /// the spheres overlap.
+    template <bool kPeriodic>
+    [[gnu::always_inline]] static inline bool separation(uint32_t i, uint32_t j, const Vec3* __restrict x,
+                                                         const double* __restrict r, const MinimumImage& img,
+                                                         double& dx, double& dy, double& dz, double& d2) {
+        dx = x[i].x - x[j].x;
+        dy = x[i].y - x[j].y;
+        dz = x[i].z - x[j].z;
+        if constexpr (kPeriodic) img.apply(dx, dy, dz);
+        const double rs = r[i] + r[j];
+        d2 = dx * dx + dy * dy + dz * dz;
+        return d2 < rs * rs;
     }
 
     /// 1 if some history entry is != 0.0 (as the floating-point test: +-0 clean, NaN dirty), on the

@@ -218,12 +218,17 @@ void DPMBase::prepare(bool freshStart) {
         outputEvery_ = saveEvery_;  // --save_every given again on restart wins
     }
     if (vtkOutput_ && snapshotWriterFactory() && !snapshotWriter_) snapshotWriter_ = snapshotWriterFactory()();
-    if (freshStart) {
+    if (freshStart && stateLoaded_) {
+        // A state loaded with readRestart(path, true) carries the forces of its last step; evaluating
+        // them again would advance the contact histories (incremental springs) a second time.
+        if (outputNeedsContacts()) refreshContacts();
+    } else if (freshStart) {
         const bool rec = outputNeedsContacts();
         computeForces(rec);
         addBodyForces();
         if (rec) gatherRecords();
     }
+    stateLoaded_ = false;
     prepared_ = true;
 }
 

@@ -140,9 +140,10 @@ public:
     // ---- output -----------------------------------------------------------------------------------
     void writeRestart(const std::string& path) const;
     /// Read a restart file. With `stateOnly`, load just the configuration (particles, species, law,
-    /// walls, box, contact histories, time) from a file of any program, without parameters, driver
-    /// state or output schedule: for a driver that starts a new experiment from another driver's
-    /// state (call it in setupInitialConditions(); histories carry over into the fresh start).
+    /// walls, box, contact histories) from a file of any program, without parameters, driver state,
+    /// output schedule or clock (time and step restart at 0): for a driver that starts a new
+    /// experiment from another driver's state (call it in setupInitialConditions(); the histories
+    /// carry over into the fresh start's first neighbour build if the law is the same).
     void readRestart(const std::string& path, bool stateOnly = false);
 
 protected:
@@ -223,6 +224,7 @@ private:
     bool recordRequested_ = false;
     bool lastStepRecorded_ = false;
     bool prepared_ = false;
+    bool stateLoaded_ = false;  ///< readRestart(path, true) loaded particles with their forces
     bool forcesZeroed_ = false;
     bool usePredicted_ = false;
     std::vector<Vec3> vPred_, wPred_;  ///< predicted full-step velocities (see integrateFirstHalf)

@@ -200,7 +200,12 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         std::getline(is >> std::ws, v);
     }
     if (!is) inputError("restart file " + path + ": truncated driver section");
-    if (stateOnly) return;
+    if (stateOnly) {  // a new experiment: its clock starts at zero
+        time_ = 0;
+        step_ = 0;
+        stateLoaded_ = true;
+        return;
+    }
     loadDriverState(kv);
     // Energies written so far: keep the rows of RUN.ene up to the restart time.
     eneBuffer_.clear();

@@ -14,18 +14,21 @@ PourSimulation::PourSimulation(const std::string& name) : DPMBase(name) {
 
 void PourSimulation::actionsBeforeTimeLoop() {
     const ParticleData& P = particles();
-    double m = 0, d = 0, zLow = 0, zHigh = 0;
+    double m = 0, d = 0, zLow = 0, zHigh = 0, vDown = 0;
     for (std::size_t i = 0; i < P.size(); ++i) {
         m += P.m[i];
         d += 2 * P.r[i];
+        vDown += -P.v[i].z;
         zLow = i == 0 ? P.x[i].z : std::min(zLow, P.x[i].z);
         zHigh = i == 0 ? P.x[i].z : std::max(zHigh, P.x[i].z);
     }
-    // fall of the highest particle to the lowest one's height at the terminal speed, plus the
-    // acceleration phase: an upper estimate of the landing time, for the progress line only
-    const double vTerminal = std::max(norm(gravity()) * dragTime, 1e-12);
-    fallTime_ = 2 * dragTime + (zHigh - zLow) / vTerminal;
+    // fall of the highest particle to the lowest one's height at the terminal speed, plus twice the
+    // lag of the acceleration from the mean initial speed: an upper estimate of the landing time,
+    // for the progress line only
     const double n = static_cast<double>(std::max<std::size_t>(P.size(), 1));
+    const double vTerminal = std::max(norm(gravity()) * dragTime, 1e-12);
+    const double lag = std::clamp(1 - vDown / n / vTerminal, 0.0, 1.0) * dragTime;
+    fallTime_ = 2 * lag + (zHigh - zLow) / vTerminal;
     restEnergy_ = ekRatio * m * norm(gravity()) * d / n;  // ekRatio * N * m_mean * g * d_mean
     quench_ = quenchTime > 0 ? quenchTime : 20 * minCollisionTime();
 }
@@ -52,7 +55,9 @@ double PourSimulation::maxSpeed() const {
 }
 
 void PourSimulation::actionsAfterTimeStep() {
-    if (landed_ || step() % 50 != 0 || time() < dragTime) return;
+    // a column released from rest is slower than landedFraction * terminal speed until about
+    // landedFraction * dragTime: no landing test before twice that
+    if (landed_ || step() % 50 != 0 || time() < 2 * landedFraction * dragTime) return;
     if (maxSpeed() < landedFraction * norm(gravity()) * dragTime) {
         landed_ = true;
         landingTime_ = time();

@@ -169,6 +169,54 @@ TEST(KernelRestart, WriteAndReadRestartRoundTripsTheState) {
     std::filesystem::remove_all(dir);
 }
 
+// readRestart(path, stateOnly = true): what a driver uses to start a new experiment from another
+// run's state (ElementTest --start). The clock restarts at zero, and the contact histories
+// (tangential springs) carry over into the fresh start: one step from the loaded state matches
+// step 51 of a straight run up to the summation order of the rebuilt neighbour list, far closer
+// than the step's own velocity change (dropping the springs would change the frictional forces by
+// their full size).
+class StateOnlyStart : public PackingDriver {
+public:
+    StateOnlyStart(const std::string& file) : PackingDriver(6, 5, 5, true), file_(file) {}
+
+protected:
+    void setupInitialConditions() override {
+        readRestart(file_, true);
+        EXPECT_EQ(time(), 0.0);
+        EXPECT_EQ(step(), 0);
+        setTimeStep(suggestedTimeStep());
+        setTimeMax(static_cast<double>(stepsWanted()) * timeStep());
+    }
+
+private:
+    std::string file_;
+};
+
+TEST(KernelRestart, StateOnlyReadKeepsContactHistoriesAndRestartsTheClock) {
+    const std::string dir = "KernelRestartStateOnly";
+    std::filesystem::remove_all(dir);
+    PackingDriver a(6, 5, 5, true);
+    ASSERT_EQ(runWith(a, {"--output", dir, "--quiet", "--name", "a", "--steps", "50"}), 0);
+    PackingDriver straight(6, 5, 5, true);
+    ASSERT_EQ(runWith(straight, {"--output", dir, "--quiet", "--name", "straight", "--steps", "51"}), 0);
+    StateOnlyStart b(dir + "/a.restart");
+    ASSERT_EQ(runWith(b, {"--output", dir, "--quiet", "--name", "b", "--steps", "1"}), 0);
+    EXPECT_EQ(b.step(), 1);
+    const ParticleData &A = a.particles(), &S = straight.particles(), &B = b.particles();
+    ASSERT_EQ(B.size(), S.size());
+    double stepChange = 0, diff = 0;
+    for (std::size_t i = 0; i < S.size(); ++i) {
+        stepChange = std::max(stepChange, norm(S.v[i] - A.v[i]));
+        diff = std::max(diff, norm(B.v[i] - S.v[i]));
+    }
+    std::printf("state-only start: max |dv| against the straight run %.3e m/s, one step's velocity change %.3e m/s\n",
+                diff, stepChange);
+    EXPECT_GT(stepChange, 0.0);
+    EXPECT_LT(diff, 1e-6 * stepChange);
+    EXPECT_GT(frictionalContacts(a), 50);
+    std::filesystem::remove_all(dir);
+}
+
 TEST(KernelThreads, OneAndTwoThreadsAreBitwiseIdentical) {
     const int saved = omp_get_max_threads();
     auto runOnce = [](int threads) {

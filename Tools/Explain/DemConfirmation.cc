@@ -172,7 +172,9 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         cmd << quote(driver) << " --protocol_file " << quote(protocolPath) << " --relax_C " << fmt(relaxC) << " --relax_t0 "
             << fmt(t0) << " --output " << quote(workDir) << " --name " << name << " --threads " << opt.threads
             << " --quiet --vtk 0 --ene 0";
-        if (opt.mode == "ft4") cmd << " --geometry cylinder --device ft4 --diameter 0.05 --fill_height_m 0.05";
+        // the FT4 mould with the driver's ft4 preset (without its protocol: the recording's is used)
+        if (opt.mode == "ft4")
+            cmd << " --geometry cylinder --device ft4 --diameter 0.05 --fill_height_m 0.05 --hold_tau 0.005 --ramp_rate 1";
         run.command = cmd.str();
         const auto t1 = std::chrono::steady_clock::now();
         const int rc = std::system((run.command + " > " + quote(workDir + "/" + name + ".log") + " 2>&1").c_str());

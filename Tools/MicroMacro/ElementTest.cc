@@ -13,51 +13,6 @@
 
 namespace pdpm {
 
-// ---- start configurations ------------------------------------------------------------------------
-StartConfiguration readStartConfiguration(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) inputError("--start: cannot open " + path);
-    std::string line;
-    if (!std::getline(in, line) || line.rfind("PowderDPM-restart", 0) != 0)
-        inputError("--start: " + path + " is not a PowderDPM restart file");
-    StartConfiguration c;
-    bool haveBox = false, haveParticles = false;
-    while (std::getline(in, line)) {
-        if (line.rfind("parameters ", 0) == 0) {  // skip the parameter section (names may clash with tags)
-            long np = -1;
-            if (!parseStrictLong(line.substr(11), np) || np < 0) inputError("--start: malformed parameters in " + path);
-            for (long k = 0; k < np && std::getline(in, line); ++k) {
-            }
-        } else if (line.rfind("box ", 0) == 0 && !haveBox) {
-            std::istringstream is(line.substr(4));
-            c.lo = readVec3(is);
-            c.hi = readVec3(is);
-            if (!is) inputError("--start: malformed box line in " + path);
-            haveBox = true;
-        } else if (line.rfind("particles ", 0) == 0) {
-            long n = -1;
-            if (!parseStrictLong(line.substr(10), n) || n <= 0) inputError("--start: malformed particle count in " + path);
-            for (long i = 0; i < n; ++i) {
-                if (!std::getline(in, line)) inputError("--start: " + path + " is truncated");
-                std::istringstream is(line);
-                const Vec3 x = readVec3(is), v = readVec3(is), w = readVec3(is);
-                readVec3(is);
-                readVec3(is);
-                const double r = readDouble(is);
-                if (!is || !(r > 0) || !isFinite(x)) inputError("--start: malformed particle record in " + path);
-                c.x.push_back(x);
-                c.v.push_back(v);
-                c.w.push_back(w);
-                c.r.push_back(r);
-            }
-            haveParticles = true;
-            break;
-        }
-    }
-    if (!haveBox || !haveParticles) inputError("--start: " + path + " has no box or no particles");
-    return c;
-}
-
 // ---- parameters ------------------------------------------------------------------------------------
 ElementTest::ElementTest(const std::string& name, const std::string& description) : DPMBase(name, description) {
     auto& p = parameters();
@@ -152,11 +107,23 @@ void ElementTest::setMaterial() {
 void ElementTest::setupInitialConditions() {
     setMaterial();
     if (!start_.empty()) {
-        const StartConfiguration c = readStartConfiguration(start_);
+        // The other run's configuration with its contact histories (tangential, rolling and torsion
+        // springs, Luding's delta_max), so the packing does not lose its frictional memory at the
+        // start; then this run's material, law and damping (its flags), one species, masses from
+        // --density. The clock starts at zero.
+        readRestart(start_, true);
+        species().clear();
+        setMaterial();
+        ParticleData& P = particles();
+        for (std::size_t i = 0; i < P.size(); ++i) {
+            P.species[i] = 0;
+            P.setRadius(i, P.r[i], density_);
+        }
+        setGravity({0, 0, 0});
+        if (!walls().empty() || !box().periodic(0) || !box().periodic(1) || !box().periodic(2))
+            inputError("--start: " + start_ + " is not a fully periodic configuration without walls");
         // overlaps of a simulated packing are physical: the insertion check does not apply
         if (!parameters().wasSetOnCommandLine("max_initial_overlap")) parameters().set("max_initial_overlap", "1");
-        setDomain(c.lo, c.hi, true, true, true);
-        for (std::size_t i = 0; i < c.x.size(); ++i) addParticle(c.x[i], c.r[i], 0, c.v[i], c.w[i]);
     } else {
         if (vi_ < v0_) inputError("--v_i (" + formatDoubleShort(vi_) + ") must not be below --v0 (" +
                                   formatDoubleShort(v0_) + ")");

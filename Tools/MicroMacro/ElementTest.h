@@ -28,15 +28,6 @@
 
 namespace pdpm {
 
-/// Particles and box of a PowderDPM restart file (any program), for --start.
-struct StartConfiguration {
-    Vec3 lo, hi;
-    std::vector<Vec3> x, v, w;
-    std::vector<double> r;
-};
-/// InputError if the file is missing, not a restart file, or malformed.
-StartConfiguration readStartConfiguration(const std::string& path);
-
 class ElementTest : public DPMBase {
 public:
     ElementTest(const std::string& name, const std::string& description);
