@@ -61,6 +61,7 @@ public:
 
     // ---- set-up -------------------------------------------------------------------------------
     ParameterSet& parameters() { return params_; }
+    const ParameterSet& parameters() const { return params_; }
     ParticleData& particles() { return particles_; }
     const ParticleData& particles() const { return particles_; }
     SpeciesTable& species() { return species_; }
@@ -95,6 +96,8 @@ public:
     void setOutput(const std::string& dir, const std::string& runName);
     const std::string& outputDirectory() const { return outDir_; }
     const std::string& runName() const { return runName_; }
+    /// The program's name (the driver class's, as given to the constructor).
+    const std::string& programName() const { return name_; }
     /// Path of an output file: DIR/RUN + suffix.
     std::string outputPath(const std::string& suffix) const;
     void setNeighbourSkin(double s) { neighbours_.setSkin(s); }
