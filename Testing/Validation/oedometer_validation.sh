@@ -4,8 +4,9 @@
 #  1. FT4 preset, cocoa, protocol 1, relaxation on: fitted macroscopic C, t0 per hold (from
 #     RUN.protocol.json "extra.holds") next to Table 4.4 (FT4 and lambdameter columns).
 #  2. Same with --relax_C 0: hold stress constant within 1 %.
-#  3. Protocols 1-4 (hold 5/10/20/30 min) on the periodic bed: relative drop after 300 s of each hold
-#     (Fig. 4.8 history effect: later steps drop less after longer holds; the first step is unchanged).
+#  3. Protocols 1-4 (hold 5/10/20/30 min) on the periodic bed and in the FT4 mould (same seed, so the
+#     same poured bed): relative drop after 300 s of each hold (Fig. 4.8 history effect: later steps
+#     drop less after longer holds; the first step is unchanged).
 # Thesis tables are read by path (skipped if absent), never copied into the repository.
 set -euo pipefail
 BUILD=${1:?build dir}; OUT=${2:?output dir}; THREADS=${3:-2}
@@ -29,17 +30,20 @@ echo "step stress_start_Pa stress_end_Pa drop C_fit t0_fit_s"; holds "$OUT/ft4_p
 echo "== 2. FT4 preset, protocol 1, relaxation off (drop must be < 1 %)"
 "$EXE" --preset ft4 --relax_C 0 --threads "$THREADS" --output "$OUT" --name ft4_p1_off --quiet
 holds "$OUT/ft4_p1_off.protocol.json"
-echo "== 3. protocols 1-4, periodic bed: relative stress drop 300 s into each hold (Fig. 4.8)"
+echo "== 3. protocols 1-4, periodic bed and FT4 mould: relative stress drop 300 s into each hold (Fig. 4.8)"
 for p in 1 2 3 4; do
   "$EXE" --protocol "$p" --width 6 --fill_height 8 --threads "$THREADS" --output "$OUT" --name periodic_p$p --quiet
+  [ "$p" = 1 ] && cp "$OUT/ft4_p1.recording.csv" "$OUT/ft4hist_p1.recording.csv" && cp "$OUT/ft4_p1.protocol.json" "$OUT/ft4hist_p1.protocol.json" && continue
+  "$EXE" --preset ft4 --protocol "$p" --threads "$THREADS" --output "$OUT" --name ft4hist_p$p --quiet
 done
-python3 - "$OUT" <<'PY'
+for bed in periodic ft4hist; do
+python3 - "$OUT" "$bed" <<'PY'
 import csv, json, sys
-out = sys.argv[1]
-print("protocol hold_min " + " ".join(f"R{k+1}_drop300s" for k in range(5)) + "  (R_k: relative drop 300 s into hold k)")
+out, bed = sys.argv[1], sys.argv[2]
+print(f"{bed}: protocol hold_min " + " ".join(f"R{k+1}_drop300s" for k in range(5)) + "  (R_k: relative drop 300 s into hold k)")
 for p, mins in zip((1, 2, 3, 4), (5, 10, 20, 30)):
-    proto = json.load(open(f"{out}/periodic_p{p}.protocol.json"))
-    rows = [r for r in csv.reader(l for l in open(f"{out}/periodic_p{p}.recording.csv") if not l.startswith('#'))]
+    proto = json.load(open(f"{out}/{bed}_p{p}.protocol.json"))
+    rows = [r for r in csv.reader(l for l in open(f"{out}/{bed}_p{p}.recording.csv") if not l.startswith('#'))]
     head, rows = rows[0], [list(map(float, r)) for r in rows[1:]]
     it, istep, isx = head.index("time_s"), head.index("step"), head.index("axial_stress_Pa")
     drops = []
@@ -49,5 +53,6 @@ for p, mins in zip((1, 2, 3, 4), (5, 10, 20, 30)):
         drops.append(1 - inside[-1][isx] / s0 if inside else float('nan'))
     print(f"{p} {mins} " + " ".join(f"{d:.4f}" for d in drops))
 PY
+done
 echo "== 4. Table 4.4 trend: fitted C per hold of protocol 1 (periodic bed)"
 holds "$OUT/periodic_p1.protocol.json"
