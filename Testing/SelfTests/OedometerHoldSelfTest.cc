@@ -15,7 +15,8 @@
 //     half of the contact-level prediction 1 - (1 + 300/t0)^(-C); E_k/E_p <= 1e-4 in at least 95 %
 //     of the samples taken while the lab clock ran (each sample above starts a clock pause, a
 //     rearrangement event), and the pauses cost less DEM time than the hold itself.
-// Also: the written recording and protocol files pass the format validator.
+// Also: the loading curve stiffens and the hold is at constant strain (Fig. 4.4b shape), and the
+// written recording and protocol files pass the format validator.
 #include <cmath>
 
 #include "OedometerSelfTestCommon.h"
@@ -80,6 +81,19 @@ int main() {
             // through a pore) are instantaneous in lab time: the clock pauses while they last.
             ok &= check(h.samples > 100 && above <= 0.05, "quasi-static while the lab clock runs (Ek/Ep <= 1e-4 in >= 95 % of samples)");
             ok &= check(h.pauseDem < holdDem, "clock pauses cost less DEM time than the hold");
+            // Fig. 4.4b shape: the loading curve stiffens (stress at half the ramp's strain well below
+            // half its final stress; 0.01-0.10 of it measured on three seeds), and the hold is a
+            // vertical drop at constant strain.
+            const auto& rec = d.recordingData();
+            const int cs = rec.column("step"), ce = rec.column("axial_strain"), ca = rec.column("axial_stress_Pa");
+            double eEnd = 0, sEnd = 0, sHalf = 0;
+            for (const auto& row : rec.rows)
+                if (row[static_cast<std::size_t>(cs)] == 0) eEnd = row[static_cast<std::size_t>(ce)], sEnd = row[static_cast<std::size_t>(ca)];
+            for (const auto& row : rec.rows)
+                if (row[static_cast<std::size_t>(cs)] == 0 && row[static_cast<std::size_t>(ce)] <= 0.5 * eEnd) sHalf = row[static_cast<std::size_t>(ca)];
+            std::printf("     ramp: stress %.4g Pa at half of the final strain %.4g (final stress %.4g Pa)\n", sHalf, eEnd, sEnd);
+            ok &= check(eEnd > 0 && sHalf < 0.4 * sEnd, "the loading curve stiffens (stress at half the strain < 0.4 of the final)");
+            ok &= check(h.strainEnd == h.strainStart, "the hold is at constant strain");
         } else {
             ok &= check(false, "one hold");
         }
