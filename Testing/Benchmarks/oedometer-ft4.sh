@@ -3,15 +3,8 @@
 # 2 cores) and prints wall seconds and particle-steps per second of the pour and of the protocol.
 # Needs a quiet machine (Documentation/performance.md).
 #   Testing/Benchmarks/oedometer-ft4.sh [BUILD_DIR] [THREADS] [OUT_DIR] [extra driver flags...]
-set -euo pipefail
-cd "$(dirname "$0")/../.."
-build="${1:-build}"
-threads="${2:-2}"
-out="${3:-$(mktemp -d)}"
-shift $(( $# < 3 ? $# : 3 ))
-exe="$build/bin/OedometerRelaxation"
-[[ -x "$exe" ]] || { echo "oedometer-ft4.sh: $exe not built" >&2; exit 1; }
-mkdir -p "$out"
+bench_program=OedometerRelaxation
+source "$(dirname "$0")/driver-bench-args.sh"
 start=$(date +%s.%N)
 "$exe" --preset ft4 --threads "$threads" --output "$out" --name ft4_p1 "$@" >"$out/ft4_p1.stdout" 2>"$out/ft4_p1.stderr"
 end=$(date +%s.%N)

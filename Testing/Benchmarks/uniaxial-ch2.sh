@@ -5,15 +5,8 @@
 # of the preparation and of the cycle (stage 'load' to the end) and the cycle's particle-steps per
 # second. Needs a quiet machine (Documentation/performance.md).
 #   Testing/Benchmarks/uniaxial-ch2.sh [BUILD_DIR] [THREADS] [OUT_DIR] [extra driver flags...]
-set -euo pipefail
-cd "$(dirname "$0")/../.."
-build="${1:-build}"
-threads="${2:-2}"
-out="${3:-$(mktemp -d)}"
-shift $(( $# < 3 ? $# : 3 ))
-exe="$build/bin/UniaxialCyclic"
-[[ -x "$exe" ]] || { echo "uniaxial-ch2.sh: $exe not built" >&2; exit 1; }
-mkdir -p "$out"
+bench_program=UniaxialCyclic
+source "$(dirname "$0")/driver-bench-args.sh"
 python3 - "$exe" "$threads" "$out" "$@" <<'PY'
 import re, subprocess, sys, time
 exe, threads, out, extra = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
