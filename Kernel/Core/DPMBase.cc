@@ -223,8 +223,10 @@ void DPMBase::prepare(bool freshStart) {
         // them again would advance the contact histories (incremental springs) a second time.
         if (outputNeedsContacts()) refreshContacts();
     } else if (freshStart) {
+        // The forces at t = 0 with zero elapsed time: the springs keep their (zero) length, so that after
+        // n steps they hold n increments, as in a run continued from a restart file.
         const bool rec = outputNeedsContacts();
-        computeForces(rec);
+        computeForces(rec, 0.0);
         addBodyForces();
         if (rec) gatherRecords();
     }
@@ -263,7 +265,7 @@ void DPMBase::solve() {
             slabRecords_.resize(neighbours_.slabCount() + 1);
             slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
         }
-        computeForces(record);
+        computeForces(record, dt_);
         const bool finite = integrateSecondHalf();
         ++step_;
         if (!finite) reportNonFinite();
@@ -379,7 +381,7 @@ void DPMBase::addBodyForces() {
     }
 }
 
-void DPMBase::computeForces(bool record) {
+void DPMBase::computeForces(bool record, double historyDt) {
     ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
     if (!forcesZeroed_) {
@@ -401,7 +403,7 @@ void DPMBase::computeForces(bool record) {
     c.velocity = usePredicted_ ? vPred_.data() : P.v.data();
     c.angularVelocity = usePredicted_ ? wPred_.data() : P.w.data();
     usePredicted_ = false;
-    c.dt = dt_;
+    c.dt = historyDt;
     c.time = time_;
     c.record = record;
     c.records = &slabRecords_;
@@ -431,14 +433,15 @@ void DPMBase::refreshContacts() {
         slabRecords_.resize(neighbours_.slabCount() + 1);
         slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
     }
-    // Forces at the current state with records. The law updates histories, so evaluate on a copy.
+    // Forces at the current state with records, with zero elapsed time (the springs as stored). The law
+    // may still update histories (projection, caps), so evaluate on a copy.
     auto savedHistory = neighbours_.history;
     auto savedWallHistory = neighbours_.wallHistory;
     auto savedF = particles_.f;
     auto savedT = particles_.t;
     std::vector<std::pair<Vec3, Vec3>> savedWall;
     for (const auto& w : walls_) savedWall.emplace_back(w->force, w->torque);
-    computeForces(true);
+    computeForces(true, 0.0);
     gatherRecords();
     for (std::size_t k = 0; k < walls_.size(); ++k) std::tie(walls_[k]->force, walls_[k]->torque) = savedWall[k];
     neighbours_.history = std::move(savedHistory);

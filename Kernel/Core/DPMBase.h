@@ -177,7 +177,10 @@ protected:
 
 private:
     void prepare(bool freshStart);
-    void computeForces(bool record);
+    /// Pair, wall and additional forces at the current state. `historyDt` is the time over which the
+    /// incremental histories (tangential, rolling and torsion springs, relaxation clocks) advance:
+    /// dt_ in the time loop, 0 for the evaluation of a fresh start at t = 0 (no time has passed yet).
+    void computeForces(bool record, double historyDt);
     double integrateFirstHalf();
     bool integrateSecondHalf();
     void addBodyForces();

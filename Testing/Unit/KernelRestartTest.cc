@@ -192,6 +192,61 @@ private:
     std::string file_;
 };
 
+/// Two overlapping spheres sliding past each other (no gravity, high friction, no tangential dashpot):
+/// the tangential spring integrates the relative tangential velocity once per step.
+class ShearedPairDriver : public DPMBase {
+public:
+    explicit ShearedPairDriver(long steps) : DPMBase("ShearedPairDriver"), steps_(steps) {
+        parameters().set("vtk", "0");
+        parameters().set("ene", "0");
+        parameters().set("restart_output", "0");
+    }
+    static constexpr double kVt = 0.01;  ///< relative tangential speed, m/s
+    double kt() const { return kt_; }
+
+protected:
+    void setupInitialConditions() override {
+        const double m = 4.0 / 3.0 * std::numbers::pi * kR * kR * kR * kDensity;
+        const StiffnessDamping sd = stiffnessAndDamping(2e-4, 0.9, 0.5 * m);
+        ContactParameters p;
+        p.k = sd.k;
+        p.gamma = sd.gamma;
+        p.kt = kt_ = 2.0 / 7.0 * p.k;
+        p.muS = p.muD = 10;
+        addSpecies("grain", kDensity, p);
+        setDomain({-4 * kR, -4 * kR, -4 * kR}, {4 * kR, 4 * kR, 4 * kR}, false, false, false);
+        const double gap = 2 * kR - 1e-3 * kR;  // overlap 0.1 % of r
+        addParticle({-0.5 * gap, 0, 0}, kR, 0, {0, -0.5 * kVt, 0});
+        addParticle({0.5 * gap, 0, 0}, kR, 0, {0, 0.5 * kVt, 0});
+        setTimeStep(suggestedTimeStep());
+        setTimeMax(static_cast<double>(steps_) * timeStep());
+    }
+
+private:
+    long steps_;
+    double kt_ = 0;
+};
+
+TEST(KernelTimeLoop, FreshStartSpringHoldsOneIncrementPerStep) {
+    // A fresh start evaluates the forces at t = 0 with zero elapsed time; after n steps the spring
+    // holds n increments v_t dt (before the fix it held n + 1: the start evaluation added one).
+    for (long n : {1L, 4L}) {
+        ShearedPairDriver d(n);
+        const std::string dir = "KernelShearedPair";
+        ASSERT_EQ(runWith(d, {"--output", dir, "--quiet"}), 0);
+        EXPECT_EQ(d.step(), n);
+        d.refreshContacts();
+        ASSERT_EQ(d.contacts().size(), 1u);
+        const double ft = norm(d.contacts()[0].ft);
+        const double expected = d.kt() * ShearedPairDriver::kVt * static_cast<double>(n) * d.timeStep();
+        std::printf("%ld steps: |ft| = %.6e N, k_t v_t n dt = %.6e N\n", n, ft, expected);
+        // The spring's torque spins both spheres up and slows the contact point (about 1 % after 4
+        // steps); with the start evaluation counted the ratio would be (n + 1)/n.
+        EXPECT_NEAR(ft / expected, 1.0, 0.02);
+        std::filesystem::remove_all(dir);
+    }
+}
+
 TEST(KernelRestart, StateOnlyReadKeepsContactHistoriesAndRestartsTheClock) {
     const std::string dir = "KernelRestartStateOnly";
     std::filesystem::remove_all(dir);
