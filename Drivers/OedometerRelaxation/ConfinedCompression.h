@@ -39,6 +39,7 @@ public:
         auto& p = parameters();
         p.add("relax_C", &relaxC_, 0.0792, "-", "relaxation exponent C of Eq. 4.1 (0: off)", Range::nonNegative());
         p.add("relax_t0", &relaxT0_, 0.2894, "s", "relaxation time t0 of Eq. 4.1 (lab seconds)", Range::positive());
+        p.add("relax_memory", &relaxMemory_, 0, "-", "relaxation clock memory m: a load increase f_ref -> f shortens a contact's clock by (f_ref/f)^(1/m) (0: restarts it)", Range::nonNegative());
         p.add("steps", &stepsText_, "ramp:5e-5:10000,hold:300",
               "protocol: ramp:V:S, hold:T, unload:V:S, creep:T[:S] (V lab m/s, S Pa, T lab s), comma separated");
         p.add("protocol", &protocolPreset_, 0, "-", "Table 4.3 protocol 1-9 (0: use --steps or --protocol_file)", Range::closed(0, 9));
@@ -255,7 +256,7 @@ protected:
     }
 
     // parameters and state a subclass reads or sets
-    double relaxC_ = 0, relaxT0_ = 0;
+    double relaxC_ = 0, relaxT0_ = 0, relaxMemory_ = 0;
     std::size_t pistonWall_ = 0, bottomWall_ = 0;
     double pistonZ_ = 0, pistonZ0_ = 0;
     double solid_ = 0, grainDensity_ = 0, grainSize_ = 0;
@@ -378,7 +379,7 @@ private:
         rec_.comments = {"PowderDPM " + programName() + " recording (Documentation/recording-format.md)",
                          "source: simulation; time_s is lab time; dem_time_s is simulation time",
                          "particles: " + std::to_string(particles().size()) + "; relax_C " + fmt(relaxC_) + "; relax_t0 " +
-                             fmt(relaxT0_) + " s; hold clock " +
+                             fmt(relaxT0_) + " s" + (relaxMemory_ > 0 ? "; relax_memory " + fmt(relaxMemory_) : "") + "; hold clock " +
                              (holdClock_ == "linear" ? "linear, " + fmt(timeScale_) + " lab s per DEM s"
                                                      : "log, (t0 + t)/" + fmt(holdTau_) + " lab s per DEM s")};
         recording::writeRecording(outputPath(".recording.csv"), rec_);

@@ -62,6 +62,7 @@ protected:
         for (ContactParameters* c : {&mat_.pp, &mat_.pw}) {
             c->relaxC = relaxC_;
             c->relaxT0 = relaxT0_;
+            c->relaxMemory = relaxMemory_;
             c->relaxTimeScale = 0;  // no lab time passes while filling
         }
         const double rMean = 0.5 * dMean_;
@@ -191,7 +192,8 @@ protected:
                                    {"mu", mat_.pp.muS},
                                    {"mu_r", mat_.pp.muR},
                                    {"relax_C", relaxC_},
-                                   {"relax_t0_s", relaxT0_}});
+                                   {"relax_t0_s", relaxT0_},
+                                   {"relax_memory", relaxMemory_}});
         extra.set("particles", static_cast<double>(particles().size()));
         extra.set("geometry", geometry_);
         extra.set("lateral_period_m", cylinder() ? 0.0 : box().length().x);

@@ -23,7 +23,7 @@ template <class P, class F>
 void forEachField(P& p, F&& f) {
     f(p.k); f(p.gamma); f(p.k1); f(p.kc); f(p.phiF); f(p.youngEff); f(p.shearEff); f(p.restitution);
     f(p.kt); f(p.gammaT); f(p.muS); f(p.muD); f(p.kr); f(p.gammaR); f(p.muR); f(p.ko); f(p.gammaO); f(p.muO);
-    f(p.relaxC); f(p.relaxT0); f(p.relaxTimeScale);
+    f(p.relaxC); f(p.relaxT0); f(p.relaxTimeScale); f(p.relaxMemory);
 }
 } // namespace
 

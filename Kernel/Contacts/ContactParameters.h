@@ -39,6 +39,10 @@ struct ContactParameters {
     /// Lab seconds per DEM second: the relaxation clock advances by dt * relaxTimeScale (see
     /// Contacts/RelaxationLaws.h). Only the slow relaxation physics reads it.
     double relaxTimeScale = 1;
+    /// Memory of the relaxation clock across load increases (>= 0). 0: the clock restarts at every
+    /// load increase; m > 0: it is shortened by the factor (f_ref/f_new)^(1/m) instead, so a contact
+    /// reloaded by a small fraction keeps most of its age (Contacts/RelaxationLaws.h).
+    double relaxMemory = 0;
 };
 
 /// All numeric fields in a fixed order (restart files); `defined` first.

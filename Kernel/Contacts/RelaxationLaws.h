@@ -8,9 +8,13 @@
 // function of the geometry (the relaxed contact is softer by the amount it has crept).
 //
 // The clock t (lab seconds) of each contact measures the time since the contact's LAST LOAD
-// INCREASE: whenever the unrelaxed (trial) elastic force exceeds (by more than a relative 1e-12,
+// INCREASE: whenever the unrelaxed (trial) elastic force f_new exceeds (by more than a relative 1e-12,
 // against round-off) the largest force f_ref reached since the last reset, f_ref is raised to it and
-// t restarts at 0; no relaxation happens in that step. Otherwise t advances by dt * relaxTimeScale (relaxTimeScale = lab seconds per DEM second)
+// t restarts at 0; no relaxation happens in that step. With a clock memory m = relaxMemory > 0 the
+// restart is partial: t <- (t + dt * relaxTimeScale) * (f_ref/f_new)^(1/m), so over a reload from f_a
+// to f_b the clock shrinks by (f_a/f_b)^(1/m) in all (the per-step factors telescope): an aged
+// contact reloaded by a small fraction stays old and relaxes slowly (m -> 0: full restart, the
+// default; m -> infinity: pure ageing, the clock never restarts). Otherwise t advances by dt * relaxTimeScale (relaxTimeScale = lab seconds per DEM second)
 // and the elastic force is multiplied by the exact factor ((t0 + t_new)/(t0 + t_old))^(-C), so a
 // held contact follows Eq. (4.3) exactly (the product telescopes). Only repulsive elastic forces
 // relax; adhesive (negative) forces are left alone. The clock, delta_p, f_ref and the work done by
@@ -92,6 +96,7 @@ struct Relaxing {
         detail::requireNonNegative(p.relaxC, "relaxation exponent C (relaxC)", who);
         detail::requirePositive(p.relaxT0, "relaxation time t0 (relaxT0)", who);
         detail::requireNonNegative(p.relaxTimeScale, "relaxation time scale (relaxTimeScale)", who);
+        detail::requireNonNegative(p.relaxMemory, "relaxation clock memory (relaxMemory)", who);
     }
     static double stiffness(const ContactParameters& p, double rEff) { return Base::stiffness(p, rEff); }
     static double damping(const ContactParameters& p) { return Base::damping(p); }
@@ -124,8 +129,8 @@ struct Relaxing {
         const double fTrial = trial.fn;
         const double dtau = s.dt * p.relaxTimeScale;
         if (fTrial > 0 && fTrial > r[2] * (1 + 1e-12)) {  // load increase: restart the clock
+            r[1] = p.relaxMemory > 0 && r[2] > 0 ? (r[1] + dtau) * std::pow(r[2] / fTrial, 1 / p.relaxMemory) : 0;
             r[2] = fTrial;
-            r[1] = 0;
         } else if (fTrial > 0 && dtau > 0) {  // relax the elastic force exactly over this step
             const double fNew = fTrial * decayFactor(p.relaxC, p.relaxT0, r[1], dtau);
             double deNew = RelaxInverse<Base>::overlapFor(p, se, h, fNew, de);

@@ -15,7 +15,7 @@ namespace pdpm {
 
 namespace {
 constexpr const char* kMagic = "PowderDPM-restart";
-constexpr int kVersion = 3;  // 3: walls carry their last force and torque
+constexpr int kVersion = 4;  // 3: walls carry their last force and torque; 4: relaxMemory
 
 uint64_t fnv1a(const std::string& s) {
     uint64_t h = 1469598103934665603ull;

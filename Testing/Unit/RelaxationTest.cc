@@ -248,3 +248,75 @@ TEST(Relaxation, HistoryRoundTrip) {
     Contact fresh(*law, p);
     EXPECT_NE(fresh.step(2e-4, 1e-5).fn, a.step(2e-4, 1e-5).fn);
 }
+
+TEST(Relaxation, ClockMemoryShortensTheClockByTheLoadRatio) {
+    // Memory m > 0: a reload f_ref -> f_new multiplies the clock by (f_ref/f_new)^(1/m) (the factors
+    // of the reload's steps telescope) instead of restarting it; the next hold then continues Eq. (4.3)
+    // from that age: f(t) = f_new ((t0 + t_s + t)/(t0 + t_s))^(-C).
+    const double C = 0.08, t0 = 0.3, scale = 1e4, dt = 1e-5, d1 = 1e-5;
+    for (double m : {0.0, 0.1, 0.5}) {
+        ContactParameters p = linearParams(C, t0, scale);
+        p.relaxMemory = m;
+        const auto law = makeContactLaw("linear-relax");
+        Contact c(*law, p);
+        c.step(d1, dt);
+        for (int k = 0; k < 3000; ++k) c.step(d1, dt);  // 300 lab s
+        const double age = c.h[1], fRef = c.h[2];
+        EXPECT_NEAR(age, 3000 * dt * scale, 1e-9 * age);
+        // Reload in 50 equal steps to 1.5 times the old peak force (elastic from the relaxed state).
+        const double dp = c.h[0];
+        const double dTarget = dp + 1.5 * fRef / p.k;
+        const double dStart = d1;
+        double ageAfter = age;
+        for (int k = 1; k <= 50; ++k) {
+            c.step(dStart + (dTarget - dStart) * k / 50, dt);
+            ageAfter = c.h[1];
+        }
+        const double fNew = c.h[2];
+        EXPECT_NEAR(fNew, 1.5 * fRef, 2e-2 * fRef);
+        if (m == 0) {
+            EXPECT_EQ(ageAfter, 0.0);
+        } else {
+            // Every step advances the clock by dt*scale; steps above f_ref then multiply it by
+            // f_ref/f_trial, and those factors telescope. Bounds: the hold's age shrinks by the whole
+            // (f_ref/f_new)^(1/m); the reload's own time (50 steps) is shrunk at most that much.
+            const double shrink = std::pow(fRef / fNew, 1 / m);
+            EXPECT_GE(ageAfter, age * shrink * (1 - 1e-12)) << m;
+            EXPECT_LE(ageAfter, age * shrink + 50 * dt * scale) << m;
+        }
+        // The next hold follows Eq. (4.3) from the clock it starts with.
+        const double tStart = c.h[1];
+        const double f0 = c.step(dTarget, dt).fn;
+        const double tFirst = c.h[1];
+        double worst = 0;
+        for (int k = 1; k <= 2000; ++k) {
+            const double f = c.step(dTarget, dt).fn;
+            const double expected = f0 * std::pow((t0 + tFirst + k * dt * scale) / (t0 + tFirst), -C);
+            worst = std::max(worst, std::abs(f - expected) / expected);
+        }
+        EXPECT_LT(worst, 1e-9) << m;
+        EXPECT_GE(tFirst, tStart);
+    }
+    // An aged contact relaxes less in its next hold than a restarted one.
+    auto dropAfterReload = [&](double m) {
+        ContactParameters p = linearParams(C, t0, scale);
+        p.relaxMemory = m;
+        const auto law = makeContactLaw("linear-relax");
+        Contact c(*law, p);
+        c.step(d1, dt);
+        for (int k = 0; k < 3000; ++k) c.step(d1, dt);
+        const double d2 = c.h[0] + 1.2 * c.h[2] / p.k;
+        const double f0 = c.step(d2, dt).fn;
+        double f = f0;
+        for (int k = 0; k < 3000; ++k) f = c.step(d2, dt).fn;
+        return 1 - f / f0;
+    };
+    const double restarted = dropAfterReload(0), aged = dropAfterReload(0.2);
+    std::printf("relative drop of the second hold: clock restarted %.4f, memory 0.2 %.4f\n", restarted, aged);
+    EXPECT_GT(restarted, 0.35);
+    EXPECT_LT(aged, 0.8 * restarted);
+    // Validation refuses a negative memory.
+    ContactParameters bad = linearParams(C, t0, scale);
+    bad.relaxMemory = -1;
+    EXPECT_THROW(makeContactLaw("linear-relax")->validate(bad, "pair"), InputError);
+}
