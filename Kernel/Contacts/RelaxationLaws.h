@@ -128,7 +128,7 @@ struct Relaxing {
         Base::apply(p, se, h, trial);
         const double fTrial = trial.fn;
         const double dtau = s.dt * p.relaxTimeScale;
-        if (fTrial > 0 && fTrial > r[2] * (1 + 1e-12)) {  // load increase: restart the clock
+        if (fTrial > 0 && fTrial > r[2] * (1 + 1e-12)) {  // load increase: restart (m = 0) or shorten the clock
             r[1] = p.relaxMemory > 0 && r[2] > 0 ? (r[1] + dtau) * std::pow(r[2] / fTrial, 1 / p.relaxMemory) : 0;
             r[2] = fTrial;
         } else if (fTrial > 0 && dtau > 0) {  // relax the elastic force exactly over this step

@@ -223,8 +223,9 @@ void DPMBase::prepare(bool freshStart) {
         // them again would advance the contact histories (incremental springs) a second time.
         if (outputNeedsContacts()) refreshContacts();
     } else if (freshStart) {
-        // The forces at t = 0 with zero elapsed time: the springs keep their (zero) length, so that after
-        // n steps they hold n increments, as in a run continued from a restart file.
+        // The forces at t = 0 with zero elapsed time: no spring increment and no relaxation time, so that
+        // after n steps the springs hold n increments, as in a run continued from a restart file (only a
+        // Coulomb cap met by the dashpot alone can set a spring at t = 0).
         const bool rec = outputNeedsContacts();
         computeForces(rec, 0.0);
         addBodyForces();

@@ -9,7 +9,8 @@
 //     --restart F:  read F (parameters, state, histories)  ->  actionsOnRestart()
 //     solve()
 //       check parameters, species pairs, time step (<= t_c/10), initial overlaps (fresh start)
-//       build neighbour list, compute forces
+//       build neighbour list, compute forces (fresh start: at t = 0 with zero elapsed time, so springs
+//         and relaxation clocks do not advance; a state read with readRestart(file, true) keeps its stored forces)
 //       actionsBeforeTimeLoop()
 //       fresh start: writeOutputFiles() at t = 0
 //       while (time < time_max && continueSolve()):

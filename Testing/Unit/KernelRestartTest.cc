@@ -229,7 +229,7 @@ private:
 
 TEST(KernelTimeLoop, FreshStartSpringHoldsOneIncrementPerStep) {
     // A fresh start evaluates the forces at t = 0 with zero elapsed time; after n steps the spring
-    // holds n increments v_t dt (before the fix it held n + 1: the start evaluation added one).
+    // holds n increments v_t dt (before the fix the start evaluation added one more).
     for (long n : {1L, 4L}) {
         ShearedPairDriver d(n);
         const std::string dir = "KernelShearedPair";
@@ -241,7 +241,8 @@ TEST(KernelTimeLoop, FreshStartSpringHoldsOneIncrementPerStep) {
         const double expected = d.kt() * ShearedPairDriver::kVt * static_cast<double>(n) * d.timeStep();
         std::printf("%ld steps: |ft| = %.6e N, k_t v_t n dt = %.6e N\n", n, ft, expected);
         // The spring's torque spins both spheres up and slows the contact point (about 1 % after 4
-        // steps); with the start evaluation counted the ratio would be (n + 1)/n.
+        // steps). Before the fix the start evaluation added one increment and refreshContacts another:
+        // the ratio was (n + 2)/n.
         EXPECT_NEAR(ft / expected, 1.0, 0.02);
         std::filesystem::remove_all(dir);
     }

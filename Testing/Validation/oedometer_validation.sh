@@ -7,6 +7,9 @@
 #  3. Protocols 1-4 (hold 5/10/20/30 min) on the periodic bed and in the FT4 mould (same seed, so the
 #     same poured bed): relative drop after 300 s of each hold (Fig. 4.8 history effect: later steps
 #     drop less after longer holds; the first step is unchanged).
+#  4. Table 4.4 trend: fitted C per hold of protocol 1 (periodic bed).
+#  5. The same history comparison with the relaxation clock memory --relax_memory 0.1 (periodic bed,
+#     protocols 1-4; FT4 mould, protocols 1 and 4).
 # Thesis tables are read by path (skipped if absent), never copied into the repository.
 set -euo pipefail
 BUILD=${1:?build dir}; OUT=${2:?output dir}; THREADS=${3:-2}
@@ -30,20 +33,18 @@ echo "step stress_start_Pa stress_end_Pa drop C_fit t0_fit_s"; holds "$OUT/ft4_p
 echo "== 2. FT4 preset, protocol 1, relaxation off (drop must be < 1 %)"
 "$EXE" --preset ft4 --relax_C 0 --threads "$THREADS" --output "$OUT" --name ft4_p1_off --quiet
 holds "$OUT/ft4_p1_off.protocol.json"
-echo "== 3. protocols 1-4, periodic bed and FT4 mould: relative stress drop 300 s into each hold (Fig. 4.8)"
-for p in 1 2 3 4; do
-  "$EXE" --protocol "$p" --width 6 --fill_height 8 --threads "$THREADS" --output "$OUT" --name periodic_p$p --quiet
-  [ "$p" = 1 ] && cp "$OUT/ft4_p1.recording.csv" "$OUT/ft4hist_p1.recording.csv" && cp "$OUT/ft4_p1.protocol.json" "$OUT/ft4hist_p1.protocol.json" && continue
-  "$EXE" --preset ft4 --protocol "$p" --threads "$THREADS" --output "$OUT" --name ft4hist_p$p --quiet
-done
-for bed in periodic ft4hist; do
-python3 - "$OUT" "$bed" <<'PY'
+droptable() {  # droptable OUT BED: relative drop 300 s into each hold of BED_p1..4
+python3 - "$1" "$2" <<'PY'
 import csv, json, sys
 out, bed = sys.argv[1], sys.argv[2]
 print(f"{bed}: protocol hold_min " + " ".join(f"R{k+1}_drop300s" for k in range(5)) + "  (R_k: relative drop 300 s into hold k)")
 for p, mins in zip((1, 2, 3, 4), (5, 10, 20, 30)):
-    proto = json.load(open(f"{out}/{bed}_p{p}.protocol.json"))
-    rows = [r for r in csv.reader(l for l in open(f"{out}/{bed}_p{p}.recording.csv") if not l.startswith('#'))]
+    try:
+        proto = json.load(open(f"{out}/{bed}_p{p}.protocol.json"))
+        rows = [r for r in csv.reader(l for l in open(f"{out}/{bed}_p{p}.recording.csv") if not l.startswith('#'))]
+    except (FileNotFoundError, ValueError):
+        print(f"{p} {mins} (missing or unreadable output)")
+        continue
     head, rows = rows[0], [list(map(float, r)) for r in rows[1:]]
     it, istep, isx = head.index("time_s"), head.index("step"), head.index("axial_stress_Pa")
     drops = []
@@ -53,6 +54,22 @@ for p, mins in zip((1, 2, 3, 4), (5, 10, 20, 30)):
         drops.append(1 - inside[-1][isx] / s0 if inside else float('nan'))
     print(f"{p} {mins} " + " ".join(f"{d:.4f}" for d in drops))
 PY
+}
+echo "== 3. protocols 1-4, periodic bed and FT4 mould: relative stress drop 300 s into each hold (Fig. 4.8)"
+for p in 1 2 3 4; do
+  "$EXE" --protocol "$p" --width 6 --fill_height 8 --threads "$THREADS" --output "$OUT" --name periodic_p$p --quiet
+  [ "$p" = 1 ] && cp "$OUT/ft4_p1.recording.csv" "$OUT/ft4hist_p1.recording.csv" && cp "$OUT/ft4_p1.protocol.json" "$OUT/ft4hist_p1.protocol.json" && continue
+  "$EXE" --preset ft4 --protocol "$p" --threads "$THREADS" --output "$OUT" --name ft4hist_p$p --quiet
 done
+for bed in periodic ft4hist; do droptable "$OUT" "$bed"; done
 echo "== 4. Table 4.4 trend: fitted C per hold of protocol 1 (periodic bed)"
 holds "$OUT/periodic_p1.protocol.json"
+echo "== 5. history effect with the relaxation clock memory --relax_memory 0.1 (periodic bed, protocols 1-4; FT4 mould, protocols 1 and 4)"
+for p in 1 2 3 4; do
+  "$EXE" --protocol "$p" --width 6 --fill_height 8 --relax_memory 0.1 --threads "$THREADS" --output "$OUT" --name periodicmem_p$p --quiet
+done
+droptable "$OUT" periodicmem
+for p in 1 4; do
+  "$EXE" --preset ft4 --protocol "$p" --relax_memory 0.1 --threads "$THREADS" --output "$OUT" --name ft4mem_p$p --quiet
+done
+droptable "$OUT" ft4mem
