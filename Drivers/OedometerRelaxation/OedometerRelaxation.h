@@ -43,12 +43,14 @@ public:
         p.add("gravity", &gravityOn_, true, "gravity along -z");
         // The mould presets hold thousands of particles: they also take the faster numerical settings
         // whose effect on a hold was measured to be small (driver documentation, "Geometry").
-        p.addPreset("ft4", "FT4 rheometer: cylinder D = H = 50 mm, protocol 1 capped at 22 kPa (faster numerical settings)",
+        p.addPreset("ft4", "FT4 rheometer: cylinder D = H = 50 mm, protocol 1 capped at 22 kPa, relaxation clock memory 0.1 (faster numerical settings)",
                     {{"geometry", "cylinder"}, {"device", "ft4"}, {"diameter", "0.05"}, {"fill_height_m", "0.05"},
-                     {"protocol", "1"}, {"max_stress", "22000"}, {"hold_tau", "0.005"}, {"ramp_rate", "1"}});
-        p.addPreset("lambdameter", "lambdameter: cylinder D = 149 mm, H = 60 mm, protocol 1 to 25 kPa (faster numerical settings)",
+                     {"protocol", "1"}, {"max_stress", "22000"}, {"hold_tau", "0.005"}, {"ramp_rate", "1"},
+                      {"relax_memory", "0.1"}});
+        p.addPreset("lambdameter", "lambdameter: cylinder D = 149 mm, H = 60 mm, protocol 1 to 25 kPa, relaxation clock memory 0.1 (faster numerical settings)",
                     {{"geometry", "cylinder"}, {"device", "lambdameter"}, {"diameter", "0.149"}, {"fill_height_m", "0.06"},
-                     {"protocol", "1"}, {"max_stress", "25000"}, {"hold_tau", "0.005"}, {"ramp_rate", "1"}});
+                     {"protocol", "1"}, {"max_stress", "25000"}, {"hold_tau", "0.005"}, {"ramp_rate", "1"},
+                      {"relax_memory", "0.1"}});
         p.set("vtk", "0");
         p.set("restart_output", "0");
         p.set("contact_law", "luding-relax");

@@ -8,8 +8,9 @@
 #     same poured bed): relative drop after 300 s of each hold (Fig. 4.8 history effect: later steps
 #     drop less after longer holds; the first step is unchanged).
 #  4. Table 4.4 trend: fitted C per hold of protocol 1 (periodic bed).
-#  5. The same history comparison with the relaxation clock memory --relax_memory 0.1 (periodic bed,
-#     protocols 1-4; FT4 mould, protocols 1 and 4).
+#  5. The same history comparison with the relaxation clock memory 0.1 (periodic bed with
+#     --relax_memory 0.1; FT4 mould with the ft4 preset, which sets it). Sections 1-3 pass
+#     --relax_memory 0 to the ft4 preset: the model without memory.
 # Thesis tables are read by path (skipped if absent), never copied into the repository.
 set -euo pipefail
 BUILD=${1:?build dir}; OUT=${2:?output dir}; THREADS=${3:-2}
@@ -26,12 +27,12 @@ holds() {  # print step, stress_start, stress_end, drop, C, t0 of every hold of 
          printf "%s %.4g %.4g %.4f %.4g %.4g\n", s, a, b, 1-b/a, c, t }' "$1"
 }
 echo "== 1. FT4 preset, protocol 1, relaxation on"
-time "$EXE" --preset ft4 --threads "$THREADS" --output "$OUT" --name ft4_p1 --quiet
+time "$EXE" --preset ft4 --relax_memory 0 --threads "$THREADS" --output "$OUT" --name ft4_p1 --quiet
 echo "step stress_start_Pa stress_end_Pa drop C_fit t0_fit_s"; holds "$OUT/ft4_p1.protocol.json"
 [ -f "$DATA/table_4_4_relaxation_devices.csv" ] && { echo "Table 4.4 (thesis):"; grep -v '^#' "$DATA/table_4_4_relaxation_devices.csv"; }
 [ -f "$DATA/table_4_5_relaxation_materials.csv" ] && { echo "Table 4.5 (thesis):"; grep -v '^#' "$DATA/table_4_5_relaxation_materials.csv"; }
 echo "== 2. FT4 preset, protocol 1, relaxation off (drop must be < 1 %)"
-"$EXE" --preset ft4 --relax_C 0 --threads "$THREADS" --output "$OUT" --name ft4_p1_off --quiet
+"$EXE" --preset ft4 --relax_memory 0 --relax_C 0 --threads "$THREADS" --output "$OUT" --name ft4_p1_off --quiet
 holds "$OUT/ft4_p1_off.protocol.json"
 droptable() {  # droptable OUT BED: relative drop 300 s into each hold of BED_p1..4
 python3 - "$1" "$2" <<'PY'
@@ -59,17 +60,17 @@ echo "== 3. protocols 1-4, periodic bed and FT4 mould: relative stress drop 300 
 for p in 1 2 3 4; do
   "$EXE" --protocol "$p" --width 6 --fill_height 8 --threads "$THREADS" --output "$OUT" --name periodic_p$p --quiet
   [ "$p" = 1 ] && cp "$OUT/ft4_p1.recording.csv" "$OUT/ft4hist_p1.recording.csv" && cp "$OUT/ft4_p1.protocol.json" "$OUT/ft4hist_p1.protocol.json" && continue
-  "$EXE" --preset ft4 --protocol "$p" --threads "$THREADS" --output "$OUT" --name ft4hist_p$p --quiet
+  "$EXE" --preset ft4 --relax_memory 0 --protocol "$p" --threads "$THREADS" --output "$OUT" --name ft4hist_p$p --quiet
 done
 for bed in periodic ft4hist; do droptable "$OUT" "$bed"; done
 echo "== 4. Table 4.4 trend: fitted C per hold of protocol 1 (periodic bed)"
 holds "$OUT/periodic_p1.protocol.json"
-echo "== 5. history effect with the relaxation clock memory --relax_memory 0.1 (periodic bed, protocols 1-4; FT4 mould, protocols 1 and 4)"
+echo "== 5. history effect with the relaxation clock memory 0.1 (periodic bed --relax_memory 0.1 and the ft4 preset, protocols 1-4)"
 for p in 1 2 3 4; do
   "$EXE" --protocol "$p" --width 6 --fill_height 8 --relax_memory 0.1 --threads "$THREADS" --output "$OUT" --name periodicmem_p$p --quiet
 done
 droptable "$OUT" periodicmem
-for p in 1 4; do
-  "$EXE" --preset ft4 --protocol "$p" --relax_memory 0.1 --threads "$THREADS" --output "$OUT" --name ft4mem_p$p --quiet
+for p in 1 2 3 4; do  # the ft4 preset's own memory, 0.1
+  "$EXE" --preset ft4 --protocol "$p" --threads "$THREADS" --output "$OUT" --name ft4mem_p$p --quiet
 done
 droptable "$OUT" ft4mem
