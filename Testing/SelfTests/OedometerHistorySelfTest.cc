@@ -12,6 +12,7 @@
 //    (m = 0, the clock restarts at every load increase) the same comparison scattered by -1.5, -0.2
 //    and +0.9 % over three seeds (Documentation/driver-oedometer-relaxation.md), so 7 % is far
 //    outside what the bed's noise can produce, and the check fails if the clock forgets.
+//  - Table 4.4 trend (fitted C falls from R1 to R5) on a 268-particle cocoa bed, protocol 1.
 #include <cmath>
 
 #include "OedometerSelfTestCommon.h"
@@ -39,7 +40,7 @@ double dropAfter(const OedometerHold& h, double after) {
 
 int main() {
     bool ok = true;
-    double first[2] = {0, 0}, second[2] = {0, 0}, early[2] = {0, 0};
+    double first[2] = {0, 0}, second[2] = {0, 0}, early[2] = {0, 0}, fitC[2] = {0, 0};
     const char* holds[2] = {"300", "1800"};
     for (int run = 0; run < 2; ++run) {
         OedometerRelaxation d;
@@ -54,6 +55,12 @@ int main() {
         }
         first[run] = dropAfter(d.holds()[0], 300);
         early[run] = dropAfter(d.holds()[0], 250);
+        if (run == 0) {
+            fitC[0] = d.holds()[0].fit.C;
+            fitC[1] = d.holds()[1].fit.C;
+            std::printf("     first hold 300 s: fitted C %.5f (t0 %.4g s), second hold C %.5f (t0 %.4g s)\n", fitC[0],
+                        d.holds()[0].fit.t0, fitC[1], d.holds()[1].fit.t0);
+        }
         second[run] = dropAfter(d.holds()[1], 300);
         std::printf("     first hold %s s: drop after 300 s %.5f (first hold), %.5f (second hold); max Ek/Ep %.3g, %.3g\n",
                     holds[run], first[run], second[run], d.holds()[0].maxEkEp, d.holds()[1].maxEkEp);
@@ -69,6 +76,29 @@ int main() {
     std::printf("     second hold: drop %.5f after a 300 s first hold, %.5f after 1800 s (%+.2f %%; one contact: -16 %%)\n",
                 second[0], second[1], 100 * change);
     ok &= check(change < -0.07, "a longer previous hold reduces the next hold's drop by more than 7 %");
+    // The fitted C of the two holds is printed, not checked: in this bed it also falls without memory
+    // (0.0774 -> 0.0732, -5 %), as much as the memory is expected to add (about -8 %), so a check could
+    // not tell the two apart; the Table 4.4 trend is checked on a larger bed below.
+    {
+        // Table 4.4 trend, small version: cocoa bed 6 d wide (268 particles), protocol 1 (five steps of
+        // 5 kPa, 300 s holds), memory 0.1. Measured at the validation (2026-12-01): fitted C 0.0599 ->
+        // 0.0418 from R1 to R5 (-30 %; thesis lambdameter -30 %); without memory the same bed gives
+        // 0.0593, 0.0597, 0.0583, 0.0588, 0.0557 (-6 %; an earlier realisation -2 % with 6 % scatter
+        // between steps). The check asks for -15 %, half the expected fall, and fails without memory.
+        OedometerRelaxation d;
+        std::vector<std::string> args = {"--protocol", "1", "--width", "6", "--fill_height", "8", "--relax_memory", "0.1",
+                                         "--quiet", "--threads", "1", "--name", "trend"};
+        ok &= check(oedometer_selftest::runDriver(d, args) == 0, "protocol 1, cocoa bed, memory 0.1");
+        const auto& h = d.holds();
+        if (h.size() == 5) {
+            std::printf("     fitted C R1..R5: %.4f %.4f %.4f %.4f %.4f\n", h[0].fit.C, h[1].fit.C, h[2].fit.C, h[3].fit.C,
+                        h[4].fit.C);
+            ok &= check(h[0].fit.ok && h[4].fit.ok && h[4].fit.C < 0.85 * h[0].fit.C,
+                        "Table 4.4 trend: fitted C of R5 at least 15 % below R1's");
+        } else {
+            ok &= check(false, "five holds");
+        }
+    }
     std::printf("%s\n", ok ? "OedometerHistorySelfTest passed" : "OedometerHistorySelfTest FAILED");
     return ok ? 0 : 1;
 }
