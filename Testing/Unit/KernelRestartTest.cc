@@ -26,6 +26,21 @@ namespace {
 constexpr double kR = 1e-3;
 constexpr double kDensity = 2000;
 
+/// Linear frictional contact between two grains of radius kR: collision time 2e-4 s, restitution e,
+/// k_t = 2/7 k, tangential dashpot gammaTFactor * gamma.
+ContactParameters grainContact(double e, double muS, double muD, double gammaTFactor) {
+    const double m = 4.0 / 3.0 * std::numbers::pi * kR * kR * kR * kDensity;
+    const StiffnessDamping sd = stiffnessAndDamping(2e-4, e, 0.5 * m);
+    ContactParameters p;
+    p.k = sd.k;
+    p.gamma = sd.gamma;
+    p.kt = 2.0 / 7.0 * p.k;
+    p.gammaT = gammaTFactor * p.gamma;
+    p.muS = muS;
+    p.muD = muD;
+    return p;
+}
+
 /// Dense grid packing (spacing 2 r, radii in [0.97, 1.03] r, so most neighbours overlap slightly)
 /// with random velocities and spins; frictional linear law.
 class PackingDriver : public DPMBase {
@@ -39,15 +54,7 @@ public:
 
 protected:
     void setupInitialConditions() override {
-        const double m = 4.0 / 3.0 * std::numbers::pi * kR * kR * kR * kDensity;
-        const StiffnessDamping sd = stiffnessAndDamping(2e-4, 0.5, 0.5 * m);
-        ContactParameters p;
-        p.k = sd.k;
-        p.gamma = sd.gamma;
-        p.kt = 2.0 / 7.0 * p.k;
-        p.gammaT = 0.5 * p.gamma;
-        p.muS = 0.5;
-        p.muD = 0.4;
+        const ContactParameters p = grainContact(0.5, 0.5, 0.4, 0.5);
         addSpecies("grain", kDensity, p);
         const double s = 2 * kR;
         const Vec3 hi{n_[0] * s, n_[1] * s, n_[2] * s};
@@ -206,13 +213,8 @@ public:
 
 protected:
     void setupInitialConditions() override {
-        const double m = 4.0 / 3.0 * std::numbers::pi * kR * kR * kR * kDensity;
-        const StiffnessDamping sd = stiffnessAndDamping(2e-4, 0.9, 0.5 * m);
-        ContactParameters p;
-        p.k = sd.k;
-        p.gamma = sd.gamma;
-        p.kt = kt_ = 2.0 / 7.0 * p.k;
-        p.muS = p.muD = 10;
+        const ContactParameters p = grainContact(0.9, 10, 10, 0.0);
+        kt_ = p.kt;
         addSpecies("grain", kDensity, p);
         setDomain({-4 * kR, -4 * kR, -4 * kR}, {4 * kR, 4 * kR, 4 * kR}, false, false, false);
         const double gap = 2 * kR - 1e-3 * kR;  // overlap 0.1 % of r
