@@ -14,8 +14,9 @@
 // restart is partial: t <- (t + dt * relaxTimeScale) * (f_ref/f_new)^(1/m), so over a reload from f_a
 // to f_b the clock shrinks by (f_a/f_b)^(1/m) in all (the per-step factors telescope): an aged
 // contact reloaded by a small fraction stays old and relaxes slowly (m -> 0: full restart, the
-// default; m -> infinity: pure ageing, the clock never restarts). Otherwise t advances by dt * relaxTimeScale (relaxTimeScale = lab seconds per DEM second)
-// and the elastic force is multiplied by the exact factor ((t0 + t_new)/(t0 + t_old))^(-C), so a
+// default; m -> infinity: pure ageing, the clock never restarts).
+// Otherwise t advances by dt * relaxTimeScale (relaxTimeScale = lab seconds per DEM second) and the
+// elastic force is multiplied by the exact factor ((t0 + t_new)/(t0 + t_old))^(-C), so a
 // held contact follows Eq. (4.3) exactly (the product telescopes). Only repulsive elastic forces
 // relax; adhesive (negative) forces are left alone. The clock, delta_p, f_ref and the work done by
 // relaxation are part of the contact history (restart files round-trip them).

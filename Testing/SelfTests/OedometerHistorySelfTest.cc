@@ -40,7 +40,7 @@ double dropAfter(const OedometerHold& h, double after) {
 
 int main() {
     bool ok = true;
-    double first[2] = {0, 0}, second[2] = {0, 0}, early[2] = {0, 0}, fitC[2] = {0, 0};
+    double first[2] = {0, 0}, second[2] = {0, 0}, early[2] = {0, 0};
     const char* holds[2] = {"300", "1800"};
     for (int run = 0; run < 2; ++run) {
         OedometerRelaxation d;
@@ -55,12 +55,9 @@ int main() {
         }
         first[run] = dropAfter(d.holds()[0], 300);
         early[run] = dropAfter(d.holds()[0], 250);
-        if (run == 0) {
-            fitC[0] = d.holds()[0].fit.C;
-            fitC[1] = d.holds()[1].fit.C;
-            std::printf("     first hold 300 s: fitted C %.5f (t0 %.4g s), second hold C %.5f (t0 %.4g s)\n", fitC[0],
-                        d.holds()[0].fit.t0, fitC[1], d.holds()[1].fit.t0);
-        }
+        if (run == 0)
+            std::printf("     first hold 300 s: fitted C %.5f (t0 %.4g s), second hold C %.5f (t0 %.4g s)\n",
+                        d.holds()[0].fit.C, d.holds()[0].fit.t0, d.holds()[1].fit.C, d.holds()[1].fit.t0);
         second[run] = dropAfter(d.holds()[1], 300);
         std::printf("     first hold %s s: drop after 300 s %.5f (first hold), %.5f (second hold); max Ek/Ep %.3g, %.3g\n",
                     holds[run], first[run], second[run], d.holds()[0].maxEkEp, d.holds()[1].maxEkEp);
