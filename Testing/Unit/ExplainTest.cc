@@ -12,6 +12,7 @@
 #include "ExplainBench.h"
 #include "IO/AtomicFile.h"
 #include "IO/Json.h"
+#include "SeveralRecordings.h"
 #include "TempDir.h"
 
 using namespace pdpm;
@@ -262,4 +263,72 @@ TEST(ExplainCommand, DemConfirmationStatusWithoutRuns) {
     EXPECT_EQ(runExplainCommand({"--recording", tmp.str() + "/r.csv", "--protocol", tmp.str() + "/p.json", "--output",
                                  tmp.str() + "/o", "--dem", "sometimes"}),
               2);
+}
+
+// ---- several recordings of one material -----------------------------------------------------------
+namespace {
+SeveralResult runPair(const CaseSpec& a, const CaseSpec& b) {
+    GeneratedCase ga = generateCase(a), gb = generateCase(b);
+    ExplainOptions opt;
+    opt.figures = false;
+    return explainSeveral({ga.rec, gb.rec}, {ga.proto, gb.proto}, opt);
+}
+} // namespace
+
+TEST(ExplainSeveral, SameMaterialTwoProtocolsConfirmsTheMechanismOnTheHeldOutRecording) {
+    for (const char* kind : {"contact_relaxation", "plasticity"}) {
+        // same material seed: one material, two devices/protocols/noise realisations
+        const SeveralResult r = runPair({kind, 5, 0.5, 31, 1500, 7}, {kind, 5, 0.5, 32, 1500, 7});
+        ASSERT_EQ(r.verdict, "missing_physics") << kind << ": " << r.summary;
+        ASSERT_EQ(r.mechanisms.size(), 1u) << kind << ": " << r.summary;
+        EXPECT_EQ(std::string(compName(r.mechanisms[0])), kind);
+        EXPECT_EQ(r.status[0], "confirmed") << kind;
+        ASSERT_EQ(r.transfers.size(), 2u);
+        for (const auto& t : r.transfers) {
+            EXPECT_TRUE(t.acts);
+            EXPECT_GT(t.gain(), 0.10) << kind << ": " << t.from << " -> " << t.to;
+        }
+    }
+}
+
+TEST(ExplainSeveral, TwoNullRecordingsSayNoMissingPhysics) {
+    const SeveralResult r = runPair({"null", 0, 0.5, 11, 1500}, {"null", 0, 0.0, 12, 1500});
+    EXPECT_EQ(r.verdict, "no_missing_physics") << r.summary;
+    EXPECT_TRUE(r.transfers.empty());
+}
+
+TEST(ExplainSeveral, AMechanismTheOtherRecordingContradictsIsNotTransferable) {
+    // recording 1 relaxes in its holds, recording 2 (holds too) does not: one material cannot do both
+    const SeveralResult r = runPair({"contact_relaxation", 5, 0.5, 31, 1500, 7}, {"null", 0, 0.5, 12, 1500});
+    ASSERT_EQ(r.mechanisms.size(), 1u) << r.summary;
+    EXPECT_EQ(r.status[0], "not_transferable");
+    EXPECT_EQ(r.verdict, "unexplained") << r.summary;
+    ASSERT_FALSE(r.transfers.empty());
+    EXPECT_TRUE(r.transfers[0].acts);
+    EXPECT_LT(r.transfers[0].gain(), 0.0);
+}
+
+TEST(ExplainSeveral, CommandWritesTheJointReportAndEachRecordingsOwn) {
+    const pdpm::testing::TempDir tmp;
+    const std::string d = tmp.str();
+    writeCase(generateCase({"contact_relaxation", 5, 0.5, 31, 1500, 7}), d + "/a", d + "/ta.json");
+    writeCase(generateCase({"contact_relaxation", 5, 0.5, 32, 1500, 7}), d + "/b", d + "/tb.json");
+    ASSERT_EQ(runExplainCommand({"--recording", d + "/a/recording.csv", "--recording", d + "/b/recording.csv",
+                                 "--protocol", d + "/a/protocol.json", d + "/b/protocol.json", "--output", d + "/o",
+                                 "--no_figures", "--dem", "off"}),
+              0);
+    const Json rep = readJsonFile(d + "/o/report.json");
+    EXPECT_EQ(rep.at("verdict").asString(), "missing_physics");
+    EXPECT_EQ(rep.at("recordings").size(), 2u);
+    EXPECT_EQ(rep.at("heldout_recordings").size(), 2u);
+    EXPECT_EQ(rep.at("mechanisms").asArray().at(0).at("heldout_recording_status").asString(), "confirmed");
+    for (const char* key : {"windows", "fit", "dem_confirmation"}) EXPECT_TRUE(rep.has(key)) << key;
+    EXPECT_TRUE(std::filesystem::exists(d + "/o/recording_1/report.json"));
+    EXPECT_TRUE(std::filesystem::exists(d + "/o/recording_2/report.json"));
+    // three recordings with two protocols cannot be paired
+    EXPECT_EQ(runExplainCommand({"--recording", d + "/a/recording.csv", d + "/b/recording.csv", d + "/a/recording.csv",
+                                 "--protocol", d + "/a/protocol.json", d + "/b/protocol.json", "--output", d + "/p",
+                                 "--dem", "off"}),
+              2);
+    EXPECT_FALSE(std::filesystem::exists(d + "/p/report.json"));
 }

@@ -24,4 +24,22 @@ if C is not None: ok = ok and abs(C - t['C_mean']) <= 0.25 * t['C_mean']
 sys.exit(0 if ok else 1)
 PY
 done
+# Two devices, one material: cocoa in the lambdameter (Table 4.5) and in the FT4 (Table 4.4), explained
+# together; check: joint verdict missing_physics naming contact_relaxation; prints every transfer.
+"$BIN/pdpm-explain-data" thesis --material cocoa --device ft4 --seed 2 --data "$SHARED/data" --output "$OUT/cocoa-ft4-input" >/dev/null
+"$BIN/pdpm-explain" --recording "$OUT/cocoa-input/recording.csv" "$OUT/cocoa-ft4-input/recording.csv" \
+  --protocol "$OUT/cocoa-input/protocol.json" "$OUT/cocoa-ft4-input/protocol.json" --output "$OUT/cocoa-two-devices" >/dev/null
+python3 - "$OUT/cocoa-two-devices/report.json" "$OUT/cocoa-ft4-input/thesis-values.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
+print(f"cocoa lambdameter + FT4: verdict {r['verdict']}; {r['summary']}")
+for m in r['mechanisms']:
+    vals = '; '.join(f"rec {p['recording']:.0f}: " + ', '.join(f"{k} {v['value']:.4g}" for k, v in p['parameters'].items()) for p in m['per_recording'])
+    print(f"  {m['name']}: {m['heldout_recording_status']} ({vals})")
+for x in r['heldout_recordings']:
+    print(f"  {'+'.join(x['mechanisms'])} from {x['calibrated_on']:.0f} on {x['heldout_recording']:.0f}: RMSE {x['heldout_rmse_baseline']:.1f} -> {x['heldout_rmse_augmented']:.1f} Pa ({-100 * x['gain']:+.1f} %)")
+print(f"  thesis FT4 mean C {t['C_mean']:.4f}")
+ok = r['verdict'] == 'missing_physics' and any(m['name'] == 'contact_relaxation' for m in r['mechanisms'])
+sys.exit(0 if ok else 1)
+PY
 exit $fail

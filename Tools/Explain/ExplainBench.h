@@ -18,6 +18,10 @@ struct CaseSpec {
     double rho = 0.5;      ///< AR(1) coefficient of the noise
     unsigned long seed = 1;
     int samples = 3000;
+    /// 0: every parameter from `seed`. Otherwise the material (stiffness E and the mechanism
+    /// parameters) comes from this seed and the rest (device, protocol, nuisances, noise) from
+    /// `seed`: two cases with the same material seed are two recordings of one material.
+    unsigned long materialSeed = 0;
 };
 
 struct GeneratedCase {
@@ -47,5 +51,13 @@ struct CaseScore {
 };
 
 CaseScore scoreCase(const Json& report, const Json& truth);
+
+/// Benchmark of the several-recordings stage (in process; the truth is the kind each pair was
+/// generated with): `pairs` same-material pairs per mechanism and SNR (one material seed, two
+/// devices/protocols/noise realisations), `pairs` null pairs and `pairs` contradicting pairs
+/// (mechanism in one recording, a different material without it in the other). Returns a
+/// markdown section.
+std::string pairBenchmark(int pairs, const std::vector<std::string>& mechanisms, const std::vector<double>& snrs,
+                          int samples, unsigned long seed);
 
 } // namespace pdpm::explain

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
     return tools::runTool("pdpm-explain-bench", [&] {
         tools::Cli cli("pdpm-explain-bench", "blind benchmark of pdpm-explain: generate, explain, score");
         std::string out, snrText, mechText;
-        int reps = 5, nulls = 40, samples = 2000, seed = 1, forced = 10, extras = 5;
+        int reps = 5, nulls = 40, samples = 2000, seed = 1, forced = 10, extras = 5, pairs = 0;
+        std::string pairSnrText;
         cli.add("output", &out, "", "output directory");
         cli.add("reps", &reps, 5, "positive cases per mechanism and SNR", 0, 100000);
         cli.add("nulls", &nulls, 40, "null cases", 0, 100000);
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
         cli.add("samples", &samples, 2000, "samples per recording", 100, 1000000);
         cli.add("seed", &seed, 1, "base seed", 0, 1000000);
         cli.add("snr", &snrText, "1,2,3,5", "peak SNR values of the positive cases");
+        cli.add("pairs", &pairs, 0, "several-recordings benchmark: pairs per mechanism and SNR (0: skip)", 0, 100000);
+        cli.add("pair_snr", &pairSnrText, "3,5", "peak SNR values of the same-material pairs");
         cli.add("mechanisms", &mechText,
                 "contact_relaxation,plasticity,cohesion,wall_friction,rate_dependence,stiffness_nonlinearity",
                 "mechanisms of the positive cases");
@@ -209,6 +212,9 @@ int main(int argc, char** argv) {
             for (auto& [g, k] : row) md << " " << g << ": " << k << ";";
             md << " |\n";
         }
+        if (pairs > 0)
+            md << "\n" << pairBenchmark(pairs, mechs, tools::parseNumberList("pair_snr", pairSnrText), samples,
+                                        (unsigned long)seed);
         writeWholeFile(out + "/summary.md", md.str());
         std::ostringstream pc;
         pc << "snr,detected,cases\n";

@@ -7,6 +7,7 @@
 #include "IO/AtomicFile.h"
 #include "IO/Json.h"
 #include "Explain.h"
+#include "SeveralRecordings.h"
 
 namespace pdpm::explain {
 
@@ -16,13 +17,16 @@ int runExplainCommand(const std::vector<std::string>& args) {
                        "Compares an oedometric recording with the baseline model of the same protocol, locates the "
                        "mismatch, names the missing physics from a mechanism library, refits and reports "
                        "(DIR/report.json, report.md, figures).");
-        std::vector<std::string> recordings;
-        std::string protocol, output, model;
+        std::vector<std::string> recordings, protocols;
+        std::string output, model;
         int seed = 1;
         bool noFigures = false;
         DemOptions dem;
-        cli.addList("recording", &recordings, "recording CSV (recording format: time_s, axial_stress_Pa, axial_strain or piston_position_m)");
-        cli.add("protocol", &protocol, "", "protocol JSON of the recording");
+        cli.addList("recording", &recordings,
+                    "recording CSV (recording format: time_s, axial_stress_Pa, axial_strain or piston_position_m); "
+                    "several recordings of one material: repeat the flag or list several files after it");
+        cli.addList("protocol", &protocols,
+                    "protocol JSON of the recording (one per recording, in the same order; one for all if they share it)");
         cli.add("output", &output, "", "output directory");
         cli.add("model", &model, "", "MODEL.json naming the baseline and the candidates (default: oedometric baseline, all mechanisms)");
         cli.add("seed", &seed, 1, "seed of the randomised restarts (results are deterministic for a seed)", 0, 2147483647);
@@ -34,21 +38,35 @@ int runExplainCommand(const std::vector<std::string>& args) {
         if (!cli.parse(args, std::cout)) return 0;
         if (dem.mode != "off" && dem.mode != "fast" && dem.mode != "ft4") inputError("--dem: expected off, fast or ft4, got '" + dem.mode + "'");
         if (recordings.empty()) inputError("--recording is required");
-        if (recordings.size() > 1)
-            inputError("--recording: several recordings of one material are not supported yet; give one file");
-        if (protocol.empty()) inputError("--protocol is required");
+        if (protocols.empty()) inputError("--protocol is required");
+        if (protocols.size() != 1 && protocols.size() != recordings.size())
+            inputError("--protocol: give one protocol for all recordings or one per recording (" +
+                       std::to_string(recordings.size()) + " recordings, " + std::to_string(protocols.size()) + " protocols)");
         if (output.empty()) inputError("--output is required");
         ExplainOptions opt;
         opt.seed = (unsigned long)seed;
         opt.figures = !noFigures;
         if (!model.empty()) readModelFile(model, opt);
-        const Protocol proto = readProtocol(protocol);
-        const Recording rec = readRecording(recordings[0], proto);
-        checkConsistency(rec, proto);
-        const ExplainResult r = explain(rec, proto, opt);
-        writeReport(output, r, rec, proto, opt);
-        // Step 6: the DEM re-run; its block replaces the placeholder in report.json.
-        const DemResult d = confirmWithDem(r, rec, protocol, dem, output + "/dem");
+        std::vector<Protocol> protos;
+        std::vector<Recording> recs;
+        for (std::size_t k = 0; k < recordings.size(); ++k) {
+            const std::string& pp = protocols[protocols.size() == 1 ? 0 : k];
+            protos.push_back(readProtocol(pp));
+            recs.push_back(readRecording(recordings[k], protos.back()));
+            checkConsistency(recs.back(), protos.back());
+        }
+        ExplainResult single;
+        SeveralResult several;
+        if (recs.size() == 1) {
+            single = explain(recs[0], protos[0], opt);
+            writeReport(output, single, recs[0], protos[0], opt);
+        } else {
+            several = explainSeveral(recs, protos, opt);
+            writeSeveralReport(output, several, recs, protos, opt);
+        }
+        const ExplainResult& r = recs.size() == 1 ? single : several.per[0];
+        // Step 6: the DEM re-run (on the first recording); its block replaces the placeholder in report.json.
+        const DemResult d = confirmWithDem(r, recs[0], protocols[0], dem, output + "/dem");
         Json report = readJsonFile(output + "/report.json");
         report.set("dem_confirmation", demJson(d));
         writeJsonFile(output + "/report.json", report);
@@ -58,6 +76,12 @@ int runExplainCommand(const std::vector<std::string>& args) {
                       << d.heldoutAugmented << " Pa (" << d.runs.size() << " DEM runs, " << d.wallSeconds << " s)\n";
         else
             std::cout << "DEM confirmation: " << d.status << (d.reason.empty() ? "" : " (" + d.reason + ")") << "\n";
+        if (recs.size() > 1) {
+            for (std::size_t k = 0; k < recs.size(); ++k)
+                std::cout << "recording " << k + 1 << ": " << several.per[k].verdict << "\n";
+            std::cout << "verdict: " << several.verdict << "\n" << several.summary << "\nreport: " << output << "/report.md\n";
+            return 0;
+        }
         std::cout << "verdict: " << r.verdict << "\n" << r.summary << "\nreport: " << output << "/report.md\n";
         return 0;
     });

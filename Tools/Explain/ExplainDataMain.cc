@@ -1,7 +1,8 @@
 // pdpm-explain-data: inputs for pdpm-explain in the recording format.
-//   generate     --kind K --snr S --rho R --seed N --samples M --output CASE_DIR --truth TRUTH.json
-//   thesis       --material cocoa|limestone --output DIR [--seed N]
-//                reconstructs the lambdameter protocol-1 test of thesis chapter 4 from Tables 4.4/4.5
+//   generate     --kind K --snr S --rho R --seed N --samples M [--material_seed K] --output CASE_DIR --truth TRUTH.json
+//   thesis       --material cocoa|limestone [--device lambdameter|ft4] --output DIR [--seed N]
+//                reconstructs the protocol-1 test of thesis chapter 4 from Tables 4.4/4.5 (lambdameter;
+//                FT4 for cocoa)
 //   import-kfs   --input OEk.dat --output DIR     (Karlsruhe fine sand oedometer, KFSDB)
 //   import-cheng --input obsdata.dat --output DIR (GrainLearning glass-bead oedometer)
 #include <cmath>
@@ -42,10 +43,15 @@ std::vector<std::vector<double>> readWhitespaceTable(const std::string& path, in
     return rows;
 }
 
-int thesis(const std::string& material, const std::string& dataDir, const std::string& out, unsigned long seed) {
-    // Table 4.5 (lambdameter, protocol 1): sigma_max (kPa), t0 (s), C per hold R1..R5.
-    // the table has a text column (step), so strip it before the strict numeric CSV parser
-    const std::string path = dataDir + "/thesis/table_4_5_relaxation_materials.csv";
+int thesis(const std::string& material, const std::string& device, const std::string& dataDir, const std::string& out,
+           unsigned long seed) {
+    // Table 4.5 (lambdameter, protocol 1; cocoa and limestone) or Table 4.4 (cocoa, lambdameter L and
+    // FT4 F): sigma_max (kPa), t0 (s), C per hold R1..R5.
+    const bool cocoa = material == "cocoa", ft4 = device == "ft4";
+    if (ft4 && !cocoa) inputError("--device ft4: the thesis gives FT4 relaxation data for cocoa only (Table 4.4)");
+    // the tables have a text column (step), so strip it before the strict numeric CSV parser
+    const std::string path =
+        dataDir + (ft4 ? "/thesis/table_4_4_relaxation_devices.csv" : "/thesis/table_4_5_relaxation_materials.csv");
     std::istringstream raw(readWholeFile(path));
     std::string text, line;
     while (std::getline(raw, line)) {
@@ -54,13 +60,14 @@ int thesis(const std::string& material, const std::string& dataDir, const std::s
         text += (comma == std::string::npos ? line : line.substr(comma + 1)) + "\n";
     }
     const CsvTable tb = parseCsv(text, path);
-    const bool cocoa = material == "cocoa";
-    const auto smax = tb.columnValues(cocoa ? "sigma_max_C_kPa" : "sigma_max_E_kPa");
-    const auto t0 = tb.columnValues(cocoa ? "t0_C_s" : "t0_E_s");
-    const auto C = tb.columnValues(cocoa ? "C_C" : "C_E");
+    const std::string col = ft4 ? "F" : (cocoa ? "C" : "E");
+    const auto smax = tb.columnValues("sigma_max_" + col + "_kPa");
+    const auto t0 = tb.columnValues("t0_" + col + "_s");
+    const auto C = tb.columnValues("C_" + col);
     // Assumed loading curve (not in the tables): sigma = s25 * (eps/eps25)^2 with eps25 = 0.25
-    // (cocoa) / 0.30 (limestone, softer), i.e. the stiffening typical of powders under compression.
-    const double H = 0.06, D = 0.149, v = 0.05e-3, rate = v / H, hold = 300, fs = 5.0;
+    // (cocoa) / 0.30 (limestone, softer), i.e. the stiffening typical of powders under compression;
+    // the same material curve in both devices (only the geometry and the hold data differ).
+    const double H = ft4 ? 0.05 : 0.06, D = ft4 ? 0.05 : 0.149, v = 0.05e-3, rate = v / H, hold = 300, fs = 5.0;
     const double eps25 = cocoa ? 0.25 : 0.30, s25 = 25.0e3, m = 2.0;
     auto load = [&](double e) { return s25 * std::pow(std::max(e, 0.0) / eps25, m); };
     auto tangent = [&](double e) { return s25 * m * std::pow(std::max(e, 1e-9) / eps25, m - 1) / eps25; };
@@ -68,7 +75,7 @@ int thesis(const std::string& material, const std::string& dataDir, const std::s
     for (double s : smax) epsK.push_back(eps25 * std::pow(s * 1e3 / s25, 1 / m));
     Recording r;
     Protocol p;
-    p.device = "lambdameter (reconstructed from thesis Table 4.5)";
+    p.device = ft4 ? "FT4 rheometer (reconstructed from thesis Table 4.4)" : "lambdameter (reconstructed from thesis Table 4.5)";
     p.diameter = D;
     p.height = H;
     p.material = cocoa ? "cocoa powder (12 % fat)" : "Eskal 500 limestone";
@@ -109,14 +116,16 @@ int thesis(const std::string& material, const std::string& dataDir, const std::s
     p.steps.back().duration += (r.t.back() - r.t.front()) - sum;
     ensureDirectory(out);
     writeRecordingCsv(r, out + "/recording.csv",
-                      {"Reconstruction of thesis chapter 4, protocol 1, lambdameter, " + p.material,
-                       "holds: Eq. 4.3 with sigma_max, t0, C of Table 4.5 per hold; loading curve assumed sigma ~ eps^2",
+                      {"Reconstruction of thesis chapter 4, protocol 1, " + std::string(ft4 ? "FT4" : "lambdameter") + ", " + p.material,
+                       std::string("holds: Eq. 4.3 with sigma_max, t0, C of Table ") + (ft4 ? "4.4 (FT4)" : "4.5") +
+                           " per hold; loading curve assumed sigma ~ eps^2",
                        "sampling 5 Hz, AR(1) noise sd 15 Pa rho 0.5, quantisation 1 Pa, drift 2 mPa/s"});
     writeProtocolJson(p, out + "/protocol.json");
     double cm = 0;
     for (double c : C) cm += c;
     Json truth = Json::object();
     truth.set("material", material);
+    truth.set("device", ft4 ? "ft4" : "lambdameter");
     truth.set("C_mean", cm / double(C.size()));
     Json cs = Json::array();
     for (double c : C) cs.push(Json(c));
@@ -196,9 +205,9 @@ int main(int argc, char** argv) {
         const std::string cmd = argv[1];
         std::vector<std::string> args(argv + 2, argv + argc);
         tools::Cli cli("pdpm-explain-data " + cmd, "inputs for pdpm-explain (see Documentation/tools-explain.md)");
-        std::string output, input, truth, kind, material, dataDir;
+        std::string output, input, truth, kind, material, device, dataDir;
         double snr = 3, rho = 0.5;
-        int seed = 1, samples = 3000;
+        int seed = 1, samples = 3000, materialSeed = 0;
         cli.add("output", &output, "", "output directory");
         if (cmd == "generate") {
             cli.add("kind", &kind, "null", "null | MECHANISM | two:A+B | ool:bump | ool:sine");
@@ -207,10 +216,15 @@ int main(int argc, char** argv) {
             cli.add("seed", &seed, 1, "seed", 0, 2147483647);
             cli.add("samples", &samples, 3000, "samples", 50, 10000000);
             cli.add("truth", &truth, "", "where to write the sealed truth (JSON)");
+            cli.add("material_seed", &materialSeed, 0,
+                    "seed of the material (stiffness, mechanism parameters); 0: from --seed. Cases with the same "
+                    "material seed are recordings of one material (device, protocol and noise from --seed)",
+                    0, 2147483647);
         } else if (cmd == "thesis") {
             cli.add("material", &material, "cocoa", "material", {"cocoa", "limestone"});
+            cli.add("device", &device, "lambdameter", "device (ft4: cocoa only, Table 4.4)", {"lambdameter", "ft4"});
             cli.add("seed", &seed, 1, "seed of the noise", 0, 2147483647);
-            cli.add("data", &dataDir, PDPM_SHARED_DATA, "shared data folder (holds thesis/table_4_5_relaxation_materials.csv)");
+            cli.add("data", &dataDir, PDPM_SHARED_DATA, "shared data folder (holds thesis/table_4_4_relaxation_devices.csv and table_4_5_relaxation_materials.csv)");
         } else if (cmd == "import-kfs" || cmd == "import-cheng") {
             cli.add("input", &input, "", "data file");
         } else {
@@ -220,11 +234,11 @@ int main(int argc, char** argv) {
         if (output.empty()) inputError("--output is required");
         if (cmd == "generate") {
             if (truth.empty()) inputError("--truth is required");
-            CaseSpec s{kind, snr, rho, (unsigned long)seed, samples};
+            CaseSpec s{kind, snr, rho, (unsigned long)seed, samples, (unsigned long)materialSeed};
             writeCase(generateCase(s), output, truth);
             return 0;
         }
-        if (cmd == "thesis") return thesis(material, dataDir, output, (unsigned long)seed);
+        if (cmd == "thesis") return thesis(material, device, dataDir, output, (unsigned long)seed);
         if (input.empty()) inputError("--input is required");
         return cmd == "import-kfs" ? importKfs(input, output) : importCheng(input, output);
     });

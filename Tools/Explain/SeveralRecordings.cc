@@ -1,0 +1,358 @@
+#include "SeveralRecordings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <sstream>
+
+#include "IO/AtomicFile.h"
+#include "IO/Json.h"
+
+namespace pdpm::explain {
+
+namespace {
+
+std::string fmt(double x, int prec = 4) {
+    std::ostringstream os;
+    os << std::setprecision(prec) << x;
+    return os.str();
+}
+
+double rms(const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+    return std::sqrt(s / double(std::max<std::size_t>(1, a.size())));
+}
+
+/// Fits a recording with its own baseline model free (baseline, its nuisances and any always-on
+/// components: the device parameters), the components `on` switched on and every other parameter
+/// (the transferred material parameters) held at the start values.
+FitResult fitDevice(const Model& M, const Recording& rec, const ExplainResult& own, const std::vector<char>& on,
+                    const std::vector<std::vector<double>>& starts) {
+    FitOptions fo;
+    for (int c = 0; c < kNumComp; ++c)
+        if (c == kBaseline || own.onBaseline[c])
+            for (int k : M.paramsOf(c)) fo.freeParams.push_back(k);
+    fo.whitener = own.noise.whitener();
+    FitResult best;
+    best.rss = -1;
+    for (const auto& s : starts) {
+        FitResult f = fitModel(M, rec.stress, on, s, fo);
+        if (best.rss < 0 || f.rss < best.rss) best = std::move(f);
+    }
+    return best;
+}
+
+Transfer transfer(const std::vector<Recording>& recs, const std::vector<Protocol>& protos,
+                  const std::vector<ExplainResult>& per, std::size_t a, std::size_t b, const std::vector<int>& mechs) {
+    Transfer T;
+    T.from = a;
+    T.to = b;
+    T.mechanisms = mechs;
+    const Model M(makeModelInput(recs[b], protos[b]));
+    const ExplainResult& own = per[b];
+    const std::vector<char>& on = own.onBaseline;  // its baseline model; its own mechanisms stay off
+    const FitResult base = fitDevice(M, recs[b], own, on, {own.pBaseline});
+    std::vector<char> onAug = on;
+    std::vector<double> start = base.p, startOwn = own.pFinal;
+    for (int c : mechs) {
+        onAug[c] = 1;
+        for (int k : M.paramsOf(c)) start[k] = startOwn[k] = per[a].pFinal[k];
+    }
+    const FitResult aug = fitDevice(M, recs[b], own, onAug, {start, startOwn});
+    T.yBaseline = base.model;
+    T.yAugmented = aug.model;
+    T.rmseBaseline = rms(recs[b].stress, base.model);
+    T.rmseAugmented = rms(recs[b].stress, aug.model);
+    T.termRms = rms(base.model, aug.model);
+    T.acts = T.termRms >= own.minDetectableRms;
+    T.noiseSigma = own.noise.sigma;
+    return T;
+}
+
+std::string names(const std::vector<int>& comps) {
+    std::string s;
+    for (std::size_t k = 0; k < comps.size(); ++k) s += (k ? ", " : "") + std::string(compName(comps[k]));
+    return s;
+}
+
+} // namespace
+
+double Transfer::excessGain() const {
+    const double s2 = noiseSigma * noiseSigma;
+    const double eb = std::sqrt(std::max(0.0, rmseBaseline * rmseBaseline - s2));
+    const double ea = std::sqrt(std::max(0.0, rmseAugmented * rmseAugmented - s2));
+    return eb > 0 ? 1 - ea / eb : -1;
+}
+
+SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vector<Protocol>& protos,
+                             const ExplainOptions& opt) {
+    SeveralResult R;
+    for (std::size_t k = 0; k < recs.size(); ++k) R.per.push_back(explain(recs[k], protos[k], opt));
+    for (const auto& r : R.per)
+        for (const auto& m : r.mechanisms)
+            if (std::find(R.mechanisms.begin(), R.mechanisms.end(), m.comp) == R.mechanisms.end())
+                R.mechanisms.push_back(m.comp);
+    R.confirmed.assign(R.mechanisms.size(), 0);
+    R.testedElsewhere.assign(R.mechanisms.size(), 0);
+    std::vector<char> worse(R.mechanisms.size(), 0);
+    // each mechanism alone, from every recording that accepted it to every other recording
+    for (std::size_t u = 0; u < R.mechanisms.size(); ++u)
+        for (std::size_t a = 0; a < recs.size(); ++a) {
+            bool has = false;
+            for (const auto& m : R.per[a].mechanisms) has = has || m.comp == R.mechanisms[u];
+            if (!has) continue;
+            for (std::size_t b = 0; b < recs.size(); ++b) {
+                if (b == a) continue;
+                Transfer T = transfer(recs, protos, R.per, a, b, {R.mechanisms[u]});
+                if (T.acts) {
+                    R.testedElsewhere[u] = 1;
+                    if (T.gain() >= kConfirmGain) R.confirmed[u] = 1;
+                    if (T.gain() < 0) worse[u] = 1;
+                }
+                R.transfers.push_back(std::move(T));
+            }
+        }
+    R.foundIn.assign(R.mechanisms.size(), 0);
+    for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
+        for (const auto& r : R.per)
+            for (const auto& m : r.mechanisms) R.foundIn[u] += m.comp == R.mechanisms[u];
+        if (worse[u]) R.confirmed[u] = 0;
+        R.status.push_back(R.confirmed[u]          ? "confirmed"
+                           : R.foundIn[u] >= 2     ? "recording_dependent"
+                           : !R.testedElsewhere[u] ? "not_testable_elsewhere"
+                                                   : "not_transferable");
+    }
+    // each recording's whole accepted set (when it has more than one mechanism)
+    for (std::size_t a = 0; a < recs.size(); ++a) {
+        std::vector<int> set;
+        for (const auto& m : R.per[a].mechanisms) set.push_back(m.comp);
+        if (set.size() < 2) continue;
+        for (std::size_t b = 0; b < recs.size(); ++b)
+            if (b != a) R.transfers.push_back(transfer(recs, protos, R.per, a, b, set));
+    }
+
+    // verdict
+    std::ostringstream sum;
+    bool allNull = true, anyAmbiguous = false;
+    for (const auto& r : R.per) {
+        allNull = allNull && r.verdict == "no_missing_physics";
+        anyAmbiguous = anyAmbiguous || r.verdict == "ambiguous";
+    }
+    std::vector<int> conf, recur, refuted, untested;
+    for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
+        const std::string& st = R.status[u];
+        (st == "confirmed" ? conf : st == "recording_dependent" ? recur : st == "not_transferable" ? refuted : untested)
+            .push_back(R.mechanisms[u]);
+    }
+    if (allNull) {
+        R.verdict = "no_missing_physics";
+        sum << "None of the " << recs.size() << " recordings shows a mismatch beyond its noise.";
+    } else if (!conf.empty() || !recur.empty() || !untested.empty()) {
+        R.verdict = conf.empty() && recur.empty() && anyAmbiguous ? "ambiguous" : "missing_physics";
+        sum << "Missing: " << names(conf.empty() ? (recur.empty() ? untested : recur) : conf);
+        if (!conf.empty())
+            sum << " (confirmed on a held-out recording: the term calibrated on one recording lowers the error of another)";
+        if (!conf.empty() && !recur.empty()) sum << "; also " << names(recur);
+        if (!recur.empty())
+            sum << " (found in several recordings, with parameters that differ "
+                << "between them, so one parameter set does not carry over)";
+        if ((!conf.empty() || !recur.empty()) && !untested.empty()) sum << "; also " << names(untested);
+        if (!untested.empty()) sum << " (in one recording; the others cannot test it)";
+        if (!refuted.empty()) sum << "; found in one recording but not carried over to the others: " << names(refuted);
+        sum << ".";
+    } else if (R.mechanisms.empty()) {
+        R.verdict = anyAmbiguous ? "ambiguous" : "unexplained";
+        sum << "At least one recording disagrees with the baseline, but no mechanism was accepted.";
+    } else {
+        R.verdict = "unexplained";
+        sum << "The mechanisms found in single recordings (" << names(R.mechanisms)
+            << ") do not carry over to the other recordings with the same material parameters: the difference "
+            << "between the recordings is not explained by the library.";
+    }
+    R.summary = sum.str();
+    return R;
+}
+
+void writeSeveralReport(const std::string& dir, const SeveralResult& R, const std::vector<Recording>& recs,
+                        const std::vector<Protocol>& protos, const ExplainOptions& opt) {
+    ensureDirectory(dir);
+    std::vector<std::string> sub;
+    for (std::size_t k = 0; k < recs.size(); ++k) {
+        sub.push_back("recording_" + std::to_string(k + 1));
+        writeReport(dir + "/" + sub.back(), R.per[k], recs[k], protos[k], opt);
+    }
+    const Model M0(makeModelInput(recs[0], protos[0]));
+    const auto& defs = M0.defs();
+
+    Json j = Json::object();
+    j.set("tool", "pdpm-explain");
+    j.set("seed", double(opt.seed));
+    j.set("verdict", R.verdict);
+    j.set("summary", R.summary);
+    Json rj = Json::array();
+    for (std::size_t k = 0; k < recs.size(); ++k) {
+        Json o = Json::object();
+        o.set("recording", recs[k].source);
+        o.set("protocol", protos[k].source);
+        o.set("device", protos[k].device);
+        o.set("verdict", R.per[k].verdict);
+        o.set("report", sub[k] + "/report.json");
+        rj.push(o);
+    }
+    j.set("recordings", rj);
+    Json mechs = Json::array();
+    for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
+        const int c = R.mechanisms[u];
+        Json mj = Json::object();
+        mj.set("name", compName(c));
+        Json per = Json::array();
+        double incl = 0;
+        bool first = true;
+        for (std::size_t k = 0; k < recs.size(); ++k)
+            for (const auto& m : R.per[k].mechanisms) {
+                if (m.comp != c) continue;
+                Json ps = Json::object();
+                for (std::size_t q = 0; q < m.params.size(); ++q) {
+                    Json pj = Json::object();
+                    pj.set("value", m.value[q]);
+                    pj.set("ci95", Json::array({Json(m.lo[q]), Json(m.hi[q])}));
+                    pj.set("unit", defs[m.params[q]].unit);
+                    ps.set(defs[m.params[q]].name, pj);
+                }
+                if (first) mj.set("parameters", ps);  // from the first recording that found it
+                first = false;
+                Json o = Json::object();
+                o.set("recording", double(k + 1));
+                o.set("parameters", ps);
+                per.push(o);
+                incl = std::max(incl, m.inclusionProbability);
+            }
+        mj.set("inclusion_probability", incl);
+        mj.set("per_recording", per);
+        mj.set("tested_on_heldout_recording", bool(R.testedElsewhere[u]));
+        mj.set("confirmed_on_heldout_recording", bool(R.confirmed[u]));
+        mj.set("found_in_recordings", double(R.foundIn[u]));
+        mj.set("heldout_recording_status", R.status[u]);
+        mechs.push(mj);
+    }
+    j.set("mechanisms", mechs);
+    Json wins = Json::array();
+    for (std::size_t k = 0; k < recs.size(); ++k)
+        for (const auto& w : R.per[k].windows) {
+            Json o = Json::object();
+            o.set("recording", double(k + 1));
+            o.set("t_start_s", w.tStart);
+            o.set("t_end_s", w.tEnd);
+            o.set("phase", w.phase);
+            o.set("share_of_excess_residual", w.share);
+            o.set("mismatch", w.mismatch);
+            wins.push(o);
+        }
+    j.set("windows", wins);
+    {  // the fit block of the first recording; the held-out recordings follow
+        const auto& r = R.per[0];
+        Json fit = Json::object();
+        fit.set("rmse_baseline", r.rmseBaseline);
+        fit.set("rmse_augmented", r.rmseAugmented);
+        fit.set("heldout_rmse_baseline", r.heldoutBaseline);
+        fit.set("heldout_rmse_augmented", r.heldoutAugmented);
+        fit.set("note", "recording 1 with its own blocked cross-validation; each recording's block is in its report, "
+                        "the transfer between recordings in heldout_recordings");
+        j.set("fit", fit);
+    }
+    Json tr = Json::array();
+    for (const auto& T : R.transfers) {
+        Json o = Json::object();
+        o.set("calibrated_on", double(T.from + 1));
+        o.set("heldout_recording", double(T.to + 1));
+        Json ms = Json::array();
+        for (int c : T.mechanisms) ms.push(Json(compName(c)));
+        o.set("mechanisms", ms);
+        o.set("heldout_rmse_baseline", T.rmseBaseline);
+        o.set("heldout_rmse_augmented", T.rmseAugmented);
+        o.set("gain", T.gain());
+        o.set("excess_gain", T.excessGain());
+        o.set("term_rms_Pa", T.termRms);
+        o.set("term_acts", T.acts);
+        tr.push(o);
+    }
+    j.set("heldout_recordings", tr);
+    j.set("heldout_recording_scheme",
+          "the held-out recording is fitted with its device parameters free (E, eps0, its nuisances) and the "
+          "mechanism's material parameters fixed at the values of the recording that found it");
+    Json dem = Json::object();
+    dem.set("status", "not_run");
+    dem.set("heldout_rmse_baseline", Json());
+    dem.set("heldout_rmse_augmented", Json());
+    j.set("dem_confirmation", dem);
+    writeJsonFile(dir + "/report.json", j);
+
+    // held-out series and figures
+    const bool gp = opt.figures && std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+    for (std::size_t q = 0; q < R.transfers.size(); ++q) {
+        const Transfer& T = R.transfers[q];
+        const std::string stem = "heldout_" + std::to_string(q + 1) + "_" + std::to_string(T.from + 1) + "_to_" +
+                                 std::to_string(T.to + 1);
+        const Recording& rec = recs[T.to];
+        std::ostringstream os;
+        os << "# held-out recording " << T.to + 1 << " (" << rec.source << "); mechanisms " << names(T.mechanisms)
+           << " calibrated on recording " << T.from + 1 << "\n";
+        os << "time_s,axial_stress_Pa,baseline_Pa,augmented_Pa\n" << std::setprecision(10);
+        for (std::size_t i = 0; i < rec.size(); ++i)
+            os << rec.t[i] << ',' << rec.stress[i] << ',' << T.yBaseline[i] << ',' << T.yAugmented[i] << '\n';
+        writeWholeFile(dir + "/" + stem + ".csv", os.str());
+        if (!gp) continue;
+        std::ostringstream g;
+        g << "set terminal pngcairo size 1000,500\nset output '" << dir << "/" << stem << ".png'\n"
+          << "set datafile separator ','\nset xlabel 'time (s)'\nset ylabel 'axial stress (Pa)'\nset key left top\n"
+          << "set title 'held-out recording " << T.to + 1 << ": " << names(T.mechanisms) << " from recording "
+          << T.from + 1 << "'\n"
+          << "plot '" << dir << "/" << stem << ".csv' u 1:2 w l lc rgb '#999999' t 'recording', '' u 1:3 w l lw 2 t "
+          << "'baseline (RMSE " << fmt(T.rmseBaseline, 3) << " Pa)', '' u 1:4 w l lw 2 t 'with the transferred term (RMSE "
+          << fmt(T.rmseAugmented, 3) << " Pa)'\n";
+        writeWholeFile(dir + "/" + stem + ".gp", g.str());
+        if (std::system(("gnuplot '" + dir + "/" + stem + ".gp' >/dev/null 2>&1").c_str()) != 0) { /* figure optional */ }
+    }
+
+    std::ostringstream md;
+    md << "# pdpm-explain report: " << recs.size() << " recordings of one material\n\n";
+    md << "## Verdict: **" << R.verdict << "**\n\n" << R.summary << "\n\n";
+    md << "| recording | device | verdict | own report |\n|---|---|---|---|\n";
+    for (std::size_t k = 0; k < recs.size(); ++k)
+        md << "| " << k + 1 << ": `" << recs[k].source << "` | " << protos[k].device << " | " << R.per[k].verdict << " | "
+           << sub[k] << "/report.md |\n";
+    md << "\n## Does the physics found in one recording explain the others?\n\n"
+       << "Each held-out recording is fitted twice with only its device parameters free (stiffness, zero strain, "
+       << "compliance, drift): with the baseline alone, and with the mechanism switched on at the material "
+       << "parameters of the recording that found it. A mechanism counts as confirmed when that lowers the "
+       << "held-out recording's error by at least " << fmt(100 * kConfirmGain, 2)
+       << " % where its term acts, and raises it nowhere.\n\n"
+       << "| mechanisms | calibrated on | held-out recording | RMSE without (Pa) | RMSE with (Pa) | change | term acts |\n"
+       << "|---|---|---|---|---|---|---|\n";
+    for (const auto& T : R.transfers)
+        md << "| " << names(T.mechanisms) << " | " << T.from + 1 << " | " << T.to + 1 << " | " << fmt(T.rmseBaseline, 4)
+           << " | " << fmt(T.rmseAugmented, 4) << " | " << fmt(-100 * T.gain(), 3) << " % | "
+           << (T.acts ? "yes" : "no (below what the noise lets one see)") << " |\n";
+    md << "\n";
+    for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
+        const std::string& st = R.status[u];
+        md << "- " << compName(R.mechanisms[u]) << " (found in " << R.foundIn[u] << " of " << recs.size() << "): "
+           << (st == "confirmed"             ? "confirmed on a held-out recording"
+               : st == "recording_dependent" ? "present in several recordings, but its parameters differ between them "
+                                               "(device, geometry or rate dependence of the effective parameter)"
+               : st == "not_testable_elsewhere" ? "not testable on the other recordings"
+                                                : "not confirmed: it does not carry over to the other recordings")
+           << ";";
+        for (std::size_t k = 0; k < recs.size(); ++k)
+            for (const auto& m : R.per[k].mechanisms)
+                if (m.comp == R.mechanisms[u])
+                    for (std::size_t q = 0; q < m.params.size(); ++q)
+                        md << " " << defs[m.params[q]].name << " = " << fmt(m.value[q], 3) << " (recording " << k + 1 << ")";
+        md << "\n";
+    }
+    writeWholeFile(dir + "/report.md", md.str());
+}
+
+} // namespace pdpm::explain
