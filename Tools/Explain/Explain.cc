@@ -1006,7 +1006,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     if (opt.figures && haveGnuplot()) {
         std::ostringstream gp;
         const std::string d = dir + "/";
-        gp << "set terminal pngcairo size 1000,600\nset datafile separator ','\nset key top left\n";
+        gp << "set terminal pngcairo size 1000,600 noenhanced\nset datafile separator ','\nset key top left\n";
         gp << "set output " << gnuplotQuote(d + "fit.png.tmp") << "\n";
         gp << "set xlabel 'time (s)'\nset ylabel 'axial stress (Pa)'\nset title 'recording vs baseline vs augmented ("
            << R.verdict << ")'\n";

@@ -305,12 +305,12 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         writeWholeFile(dir + "/" + stem + ".csv", os.str());
         if (!gp) continue;
         std::ostringstream g;
-        g << "set terminal pngcairo size 1000,500\nset output '" << dir << "/" << stem << ".png'\n"
+        g << "set terminal pngcairo size 1000,500 noenhanced\nset output '" << dir << "/" << stem << ".png'\n"
           << "set datafile separator ','\nset xlabel 'time (s)'\nset ylabel 'axial stress (Pa)'\nset key left top\n"
           << "set title 'held-out recording " << T.to + 1 << ": " << names(T.mechanisms) << " from recording "
           << T.from + 1 << "'\n"
           << "plot '" << dir << "/" << stem << ".csv' u 1:2 w l lc rgb '#999999' t 'recording', '' u 1:3 w l lw 2 t "
-          << "'baseline (RMSE " << fmt(T.rmseBaseline, 3) << " Pa)', '' u 1:4 w l lw 2 t 'with the transferred term (RMSE "
+          << "'baseline (RMSE " << fmt(T.rmseBaseline, 3) << " Pa)', '' u 1:4 w l lw 2 t 'with the transferred term(s) (RMSE "
           << fmt(T.rmseAugmented, 3) << " Pa)'\n";
         writeWholeFile(dir + "/" + stem + ".gp", g.str());
         if (std::system(("gnuplot '" + dir + "/" + stem + ".gp' >/dev/null 2>&1").c_str()) != 0) { /* figure optional */ }
