@@ -26,7 +26,8 @@ if [[ "${ANALYSE_ONLY:-0}" != 1 ]]; then
   done
   wait
 fi
-python3 - "$out" $mus <<'PY'
+rc=0
+python3 - "$out" $mus <<'PY' || rc=$?
 import sys, csv
 out, mus = sys.argv[1], sys.argv[2:]
 print(f"{'mu':>5} {'s_dev_max':>9} {'s_dev(end of loading)':>21} {'F_dev_max':>9} {'eps_dev(s_dev=0, unloading)':>27} {'Ek/Ep<=1e-3':>11}")
@@ -42,6 +43,9 @@ for mu in mus:
     quiet = sum(x <= 1e-3 for x in cyc) / max(1, len(cyc))
     res.append((float(mu), smax, fmax, zero))
     print(f"{mu:>5} {smax:9.4f} {float(load[-1]['s_dev']):21.4f} {fmax:9.4f} {zero:27.4f} {100 * quiet:10.0f}%")
+with open(f"{out}/ch3_summary.csv", "w") as fo:
+    fo.write("mu,s_dev_max,F_dev_max,eps_dev_zero_unloading\n")
+    for r in res: fo.write(",".join(f"{x:.6g}" for x in r) + "\n")
 ok = True
 peak = max(res, key=lambda r: r[1])[0]
 good = 0.1 <= peak <= 0.5; ok &= good
@@ -52,3 +56,20 @@ good = res[-1][3] < res[0][3]; ok &= good
 print(f"zero-crossing strain decreases with mu ({res[0][3]:.4f} -> {res[-1][3]:.4f}): {good}")
 sys.exit(0 if ok else 1)
 PY
+if command -v gnuplot >/dev/null; then
+  gnuplot <<GP || true
+set terminal pngcairo size 1000,420 noenhanced
+set output '$out/ch3_trends.png'
+set datafile separator ','
+set multiplot layout 1,2
+set xlabel 'microscopic friction mu'
+set logscale x
+set key top left
+plot '$out/ch3_summary.csv' skip 1 u (\$1 > 0 ? \$1 : 0.005):2 w lp pt 7 t 's_dev max (loading)', '' skip 1 u (\$1 > 0 ? \$1 : 0.005):3 w lp pt 5 t 'F_dev max (loading)'
+set key top right
+plot '$out/ch3_summary.csv' skip 1 u (\$1 > 0 ? \$1 : 0.005):4 w lp pt 7 t 'eps_dev where s_dev = 0 on unloading'
+unset multiplot
+GP
+  echo "figure: $out/ch3_trends.png (mu = 0 drawn at 0.005)"
+fi
+exit $rc

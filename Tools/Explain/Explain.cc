@@ -17,9 +17,7 @@
 
 namespace pdpm::explain {
 
-namespace {
-
-std::string num(double x, int prec = 4) {
+std::string num(double x, int prec) {
     std::ostringstream os;
     os << std::setprecision(prec) << x;
     return os.str();
@@ -30,6 +28,8 @@ double rmsOf(const std::vector<double>& a, const std::vector<double>& b) {
     for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
     return std::sqrt(s / double(std::max<std::size_t>(1, a.size())));
 }
+
+namespace {
 
 std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on) {
     std::vector<int> fr;
@@ -784,6 +784,34 @@ bool haveGnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") ==
 
 } // namespace
 
+Json parametersJson(const MechanismResult& m, const std::vector<ParDef>& defs) {
+    Json ps = Json::object();
+    for (std::size_t k = 0; k < m.params.size(); ++k) {
+        Json pj = Json::object();
+        pj.set("value", m.value[k]);
+        pj.set("ci95", Json::array({Json(m.lo[k]), Json(m.hi[k])}));
+        pj.set("unit", defs[m.params[k]].unit);
+        ps.set(defs[m.params[k]].name, pj);
+    }
+    return ps;
+}
+
+Json windowJson(const Window& w) {
+    Json o = Json::object();
+    o.set("t_start_s", w.tStart);
+    o.set("t_end_s", w.tEnd);
+    o.set("phase", w.phase);
+    o.set("share_of_excess_residual", w.share);
+    o.set("strain_start", w.epsStart);
+    o.set("strain_end", w.epsEnd);
+    o.set("stress_start_Pa", w.sStart);
+    o.set("stress_end_Pa", w.sEnd);
+    o.set("mean_normalised_residual", w.meanZ);
+    o.set("phase_excess_significance", w.excessZ);
+    o.set("mismatch", w.mismatch);
+    return o;
+}
+
 void writeReport(const std::string& dir, const ExplainResult& R, const Recording& rec, const Protocol& proto,
                  const ExplainOptions& opt) {
     ensureDirectory(dir);
@@ -802,15 +830,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     for (const auto& m : R.mechanisms) {
         Json mj = Json::object();
         mj.set("name", compName(m.comp));
-        Json ps = Json::object();
-        for (std::size_t k = 0; k < m.params.size(); ++k) {
-            Json pj = Json::object();
-            pj.set("value", m.value[k]);
-            pj.set("ci95", Json::array({Json(m.lo[k]), Json(m.hi[k])}));
-            pj.set("unit", defs[m.params[k]].unit);
-            ps.set(defs[m.params[k]].name, pj);
-        }
-        mj.set("parameters", ps);
+        mj.set("parameters", parametersJson(m, defs));
         mj.set("inclusion_probability", m.inclusionProbability);
         Json acts = Json::array();
         for (const auto& w : m.actsIn) {
@@ -840,21 +860,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     }
     j.set("nuisances", nu);
     Json wins = Json::array();
-    for (const auto& w : R.windows) {
-        Json o = Json::object();
-        o.set("t_start_s", w.tStart);
-        o.set("t_end_s", w.tEnd);
-        o.set("phase", w.phase);
-        o.set("share_of_excess_residual", w.share);
-        o.set("strain_start", w.epsStart);
-        o.set("strain_end", w.epsEnd);
-        o.set("stress_start_Pa", w.sStart);
-        o.set("stress_end_Pa", w.sEnd);
-        o.set("mean_normalised_residual", w.meanZ);
-        o.set("phase_excess_significance", w.excessZ);
-        o.set("mismatch", w.mismatch);
-        wins.push(o);
-    }
+    for (const auto& w : R.windows) wins.push(windowJson(w));
     j.set("windows", wins);
     Json fit = Json::object();
     fit.set("rmse_baseline", R.rmseBaseline);

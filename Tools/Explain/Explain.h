@@ -7,6 +7,7 @@
 
 #include "ExplainData.h"
 #include "ExplainModel.h"
+#include "IO/Json.h"
 
 namespace pdpm::explain {
 
@@ -96,6 +97,15 @@ int runExplainCommand(const std::vector<std::string>& args);
 /// `relative` times the largest part's excess and at least `minShare` of the total. Used by the
 /// explainer (estimated excess) and by the benchmark truth (noise-free visible effect).
 std::vector<char> selectMismatch(const std::vector<double>& excess, double relative = 0.3, double minShare = 0.05);
+
+/// report.json pieces: a mechanism's parameters ({name: {value, ci95, unit}}) and one window.
+Json parametersJson(const MechanismResult& m, const std::vector<ParDef>& defs);
+Json windowJson(const Window& w);
+
+/// `x` with `prec` significant digits (report text).
+std::string num(double x, int prec = 4);
+/// Root-mean-square difference of two equally long series.
+double rmsOf(const std::vector<double>& a, const std::vector<double>& b);
 
 /// Experiment that separates two mechanisms.
 std::string separatingExperiment(int a, int b);

@@ -378,6 +378,31 @@ CaseScore scoreCase(const Json& report, const Json& truth) {
     return s;
 }
 
+std::string countShare(int a, int b) {
+    std::ostringstream os;
+    os << a << "/" << b << " (" << std::fixed << std::setprecision(1) << (b ? 100.0 * a / b : 0.0) << " %)";
+    return os.str();
+}
+
+std::string snrGrid(const std::map<std::string, std::map<double, std::pair<int, int>>>& table,
+                    const std::vector<double>& snrs) {
+    std::ostringstream md;
+    md << "| mechanism |";
+    for (double snr : snrs) md << " SNR " << snr << " |";
+    md << "\n|---|";
+    for (std::size_t k = 0; k < snrs.size(); ++k) md << "---|";
+    md << "\n";
+    for (const auto& [m, row] : table) {
+        md << "| " << m << " |";
+        for (double snr : snrs) {
+            const auto it = row.find(snr);
+            md << " " << (it == row.end() ? 0 : it->second.first) << "/" << (it == row.end() ? 0 : it->second.second) << " |";
+        }
+        md << "\n";
+    }
+    return md.str();
+}
+
 std::string pairBenchmark(int pairs, const std::vector<std::string>& mechanisms, const std::vector<double>& snrs,
                           int samples, unsigned long seed) {
     struct PairJob {
@@ -419,11 +444,6 @@ std::string pairBenchmark(int pairs, const std::vector<std::string>& mechanisms,
             if (compName(r.mechanisms[u]) == m) return r.status[u];
         return "";
     };
-    auto frac = [](int a, int b) {
-        std::ostringstream os;
-        os << a << "/" << b << " (" << std::fixed << std::setprecision(1) << (b ? 100.0 * a / b : 0.0) << " %)";
-        return os.str();
-    };
     int nNull = 0, nullFalse = 0, nContra = 0, contraFlag = 0;
     std::map<double, std::array<int, 5>> bySnr;  // pairs, named, confirmed, gain >= 30 %, excess gain >= 30 %
     std::map<std::string, std::map<double, std::pair<int, int>>> confirmedBy;
@@ -459,27 +479,18 @@ std::string pairBenchmark(int pairs, const std::vector<std::string>& mechanisms,
     md << "Several recordings: " << jobs.size() << " pairs, " << samples << " samples per recording; a same-material "
        << "pair shares the material seed (stiffness and mechanism parameters) and differs in device, protocol, "
        << "nuisances and noise.\n\n| figure | measured |\n|---|---|\n";
-    md << "| null pairs: any verdict but no_missing_physics | " << frac(nullFalse, nNull) << " |\n";
+    md << "| null pairs: any verdict but no_missing_physics | " << countShare(nullFalse, nNull) << " |\n";
     for (auto& [snr, c] : bySnr) {
-        md << "| same-material pairs, peak SNR " << snr << ": mechanism named in the joint verdict | " << frac(c[1], c[0]) << " |\n";
-        md << "| same-material pairs, peak SNR " << snr << ": confirmed on the held-out recording | " << frac(c[2], c[0]) << " |\n";
+        md << "| same-material pairs, peak SNR " << snr << ": mechanism named in the joint verdict | " << countShare(c[1], c[0]) << " |\n";
+        md << "| same-material pairs, peak SNR " << snr << ": confirmed on the held-out recording | " << countShare(c[2], c[0]) << " |\n";
         md << "| same-material pairs, peak SNR " << snr << ": confirmed, held-out recording error -30 % or better both ways | "
-           << frac(c[3], c[0]) << " |\n";
+           << countShare(c[3], c[0]) << " |\n";
         md << "| same-material pairs, peak SNR " << snr << ": confirmed, held-out recording error above the noise -30 % "
-           << "or better both ways | " << frac(c[4], c[0]) << " |\n";
+           << "or better both ways | " << countShare(c[4], c[0]) << " |\n";
     }
     md << "| contradicting pairs (mechanism in one recording, absent in the other's material): not confirmed | "
-       << frac(contraFlag, nContra) << " |\n\n";
-    md << "Confirmed on the held-out recording, per mechanism and peak SNR:\n\n| mechanism |";
-    for (double snr : snrs) md << " SNR " << snr << " |";
-    md << "\n|---|";
-    for (std::size_t k = 0; k < snrs.size(); ++k) md << "---|";
-    md << "\n";
-    for (auto& [m, row] : confirmedBy) {
-        md << "| " << m << " |";
-        for (double snr : snrs) md << " " << row[snr].first << "/" << row[snr].second << " |";
-        md << "\n";
-    }
+       << countShare(contraFlag, nContra) << " |\n\n";
+    md << "Confirmed on the held-out recording, per mechanism and peak SNR:\n\n" << snrGrid(confirmedBy, snrs);
     return md.str();
 }
 

@@ -2,6 +2,7 @@
 // coloured noise, drift, quantisation, nuisances) whose truth goes to a separate file, and a
 // scorer that reads only report.json and truth.json.
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,12 @@ struct CaseScore {
 };
 
 CaseScore scoreCase(const Json& report, const Json& truth);
+
+/// "a/b (x.x %)"
+std::string countShare(int a, int b);
+/// Markdown table with one row per mechanism and one column per SNR; cells "hits/cases".
+std::string snrGrid(const std::map<std::string, std::map<double, std::pair<int, int>>>& table,
+                    const std::vector<double>& snrs);
 
 /// Benchmark of the several-recordings stage (in process; the truth is the kind each pair was
 /// generated with): `pairs` same-material pairs per mechanism and SNR (one material seed, two

@@ -24,11 +24,6 @@ struct Job {
     CaseSpec spec;
     bool forced = false;
 };
-std::string pct(int a, int b) {
-    std::ostringstream os;
-    os << a << "/" << b << " (" << std::fixed << std::setprecision(1) << (b ? 100.0 * a / b : 0.0) << " %)";
-    return os.str();
-}
 } // namespace
 
 int main(int argc, char** argv) {
@@ -180,32 +175,23 @@ int main(int argc, char** argv) {
         md << "Benchmark: " << jobs.size() << " cases, " << samples << " samples each, noise AR(1) with rho in {0, 0.5, 0.9} "
            << "(cycled), quantisation sigma/2, instrument compliance and sensor drift present in every case.\n\n";
         md << "| figure | target | measured |\n|---|---|---|\n";
-        md << "| false 'missing physics' (any verdict but no_missing_physics) on null cases | <= 5 % | " << pct(fa, nNull) << " |\n";
+        md << "| false 'missing physics' (any verdict but no_missing_physics) on null cases | <= 5 % | " << countShare(fa, nNull) << " |\n";
         for (auto& [snr, pr] : power)
             md << "| detection at peak SNR " << snr << " | " << (snr >= 5 ? ">= 98 %" : snr >= 3 ? ">= 90 %" : "-") << " | "
-               << pct(pr.first, pr.second) << " |\n";
-        md << "| correct mechanism among detections | >= 90 % | " << pct(correct, det) << " |\n";
-        md << "| window IoU >= 0.7 among detections | >= 90 % | " << pct(iouOk, det) << " |\n";
+               << countShare(pr.first, pr.second) << " |\n";
+        md << "| correct mechanism among detections | >= 90 % | " << countShare(correct, det) << " |\n";
+        md << "| window IoU >= 0.7 among detections | >= 90 % | " << countShare(iouOk, det) << " |\n";
         md << "| window IoU, mean over detections | - | " << std::fixed << std::setprecision(2) << (det ? iouSum / det : 0.0)
            << std::defaultfloat << " |\n";
-        md << "| primary parameter within 25 % (detections, SNR >= 5) | >= 90 % | " << pct(parOk, parN) << " |\n";
-        md << "| held-out error reduced >= 30 % (detections) | >= 30 % reduction when truly missing | " << pct(gainOk, gainN) << " |\n";
-        md << "| held-out error above the noise level reduced >= 30 % (detections) | - | " << pct(exGainOk, gainN) << " |\n";
+        md << "| primary parameter within 25 % (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN) << " |\n";
+        md << "| held-out error reduced >= 30 % (detections) | >= 30 % reduction when truly missing | " << countShare(gainOk, gainN) << " |\n";
+        md << "| held-out error above the noise level reduced >= 30 % (detections) | - | " << countShare(exGainOk, gainN) << " |\n";
         md << "| forced addition on null cases: held-out gain (mean / max) | <= 2 % | " << std::setprecision(3)
            << 100 * forcedGainSum / std::max(1, nForced) << " % / " << 100 * forcedGainMax << " % (" << nForced << " cases) |\n";
-        md << "| two mechanisms (relaxation + plasticity, SNR 5): detected / both named | - | " << pct(twoDet, two) << " / "
-           << pct(twoBoth, two) << " |\n";
-        md << "| out-of-library effects answered 'unexplained' | - | " << pct(oolOk, ool) << " |\n\n";
-        md << "Power curve (detections / cases) per mechanism and peak SNR:\n\n| mechanism |";
-        for (double snr : snrs) md << " SNR " << snr << " |";
-        md << "\n|---|";
-        for (std::size_t k = 0; k < snrs.size(); ++k) md << "---|";
-        md << "\n";
-        for (auto& [m, row] : powerM) {
-            md << "| " << m << " |";
-            for (double snr : snrs) md << " " << row[snr].first << "/" << row[snr].second << " |";
-            md << "\n";
-        }
+        md << "| two mechanisms (relaxation + plasticity, SNR 5): detected / both named | - | " << countShare(twoDet, two) << " / "
+           << countShare(twoBoth, two) << " |\n";
+        md << "| out-of-library effects answered 'unexplained' | - | " << countShare(oolOk, ool) << " |\n\n";
+        md << "Power curve (detections / cases) per mechanism and peak SNR:\n\n" << snrGrid(powerM, snrs);
         md << "\nConfusion (truth -> first reported mechanism or verdict):\n\n| truth | answers |\n|---|---|\n";
         for (auto& [t, row] : confusion) {
             md << "| " << t << " |";

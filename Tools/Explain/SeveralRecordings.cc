@@ -13,18 +13,6 @@ namespace pdpm::explain {
 
 namespace {
 
-std::string fmt(double x, int prec = 4) {
-    std::ostringstream os;
-    os << std::setprecision(prec) << x;
-    return os.str();
-}
-
-double rms(const std::vector<double>& a, const std::vector<double>& b) {
-    double s = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
-    return std::sqrt(s / double(std::max<std::size_t>(1, a.size())));
-}
-
 /// Fits a recording with its own baseline model free (baseline, its nuisances and any always-on
 /// components: the device parameters), the components `on` switched on and every other parameter
 /// (the transferred material parameters) held at the start values.
@@ -63,9 +51,9 @@ Transfer transfer(const std::vector<Recording>& recs, const std::vector<Protocol
     const FitResult aug = fitDevice(M, recs[b], own, onAug, {start, startOwn});
     T.yBaseline = base.model;
     T.yAugmented = aug.model;
-    T.rmseBaseline = rms(recs[b].stress, base.model);
-    T.rmseAugmented = rms(recs[b].stress, aug.model);
-    T.termRms = rms(base.model, aug.model);
+    T.rmseBaseline = rmsOf(recs[b].stress, base.model);
+    T.rmseAugmented = rmsOf(recs[b].stress, aug.model);
+    T.termRms = rmsOf(base.model, aug.model);
     T.acts = T.termRms >= own.minDetectableRms;
     T.noiseSigma = own.noise.sigma;
     return T;
@@ -213,14 +201,7 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         for (std::size_t k = 0; k < recs.size(); ++k)
             for (const auto& m : R.per[k].mechanisms) {
                 if (m.comp != c) continue;
-                Json ps = Json::object();
-                for (std::size_t q = 0; q < m.params.size(); ++q) {
-                    Json pj = Json::object();
-                    pj.set("value", m.value[q]);
-                    pj.set("ci95", Json::array({Json(m.lo[q]), Json(m.hi[q])}));
-                    pj.set("unit", defs[m.params[q]].unit);
-                    ps.set(defs[m.params[q]].name, pj);
-                }
+                const Json ps = parametersJson(m, defs);
                 if (first) mj.set("parameters", ps);  // from the first recording that found it
                 first = false;
                 Json o = Json::object();
@@ -241,13 +222,8 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
     Json wins = Json::array();
     for (std::size_t k = 0; k < recs.size(); ++k)
         for (const auto& w : R.per[k].windows) {
-            Json o = Json::object();
+            Json o = windowJson(w);
             o.set("recording", double(k + 1));
-            o.set("t_start_s", w.tStart);
-            o.set("t_end_s", w.tEnd);
-            o.set("phase", w.phase);
-            o.set("share_of_excess_residual", w.share);
-            o.set("mismatch", w.mismatch);
             wins.push(o);
         }
     j.set("windows", wins);
@@ -310,8 +286,8 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
           << "set title 'held-out recording " << T.to + 1 << ": " << names(T.mechanisms) << " from recording "
           << T.from + 1 << "'\n"
           << "plot '" << dir << "/" << stem << ".csv' u 1:2 w l lc rgb '#999999' t 'recording', '' u 1:3 w l lw 2 t "
-          << "'baseline (RMSE " << fmt(T.rmseBaseline, 3) << " Pa)', '' u 1:4 w l lw 2 t 'with the transferred term(s) (RMSE "
-          << fmt(T.rmseAugmented, 3) << " Pa)'\n";
+          << "'baseline (RMSE " << num(T.rmseBaseline, 3) << " Pa)', '' u 1:4 w l lw 2 t 'with the transferred term(s) (RMSE "
+          << num(T.rmseAugmented, 3) << " Pa)'\n";
         writeWholeFile(dir + "/" + stem + ".gp", g.str());
         if (std::system(("gnuplot '" + dir + "/" + stem + ".gp' >/dev/null 2>&1").c_str()) != 0) { /* figure optional */ }
     }
@@ -327,13 +303,13 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
        << "Each held-out recording is fitted twice with only its device parameters free (stiffness, zero strain, "
        << "compliance, drift): with the baseline alone, and with the mechanism switched on at the material "
        << "parameters of the recording that found it. A mechanism counts as confirmed when that lowers the "
-       << "held-out recording's error by at least " << fmt(100 * kConfirmGain, 2)
+       << "held-out recording's error by at least " << num(100 * kConfirmGain, 2)
        << " % where its term acts, and raises it nowhere.\n\n"
        << "| mechanisms | calibrated on | held-out recording | RMSE without (Pa) | RMSE with (Pa) | change | term acts |\n"
        << "|---|---|---|---|---|---|---|\n";
     for (const auto& T : R.transfers)
-        md << "| " << names(T.mechanisms) << " | " << T.from + 1 << " | " << T.to + 1 << " | " << fmt(T.rmseBaseline, 4)
-           << " | " << fmt(T.rmseAugmented, 4) << " | " << fmt(-100 * T.gain(), 3) << " % | "
+        md << "| " << names(T.mechanisms) << " | " << T.from + 1 << " | " << T.to + 1 << " | " << num(T.rmseBaseline, 4)
+           << " | " << num(T.rmseAugmented, 4) << " | " << num(-100 * T.gain(), 3) << " % | "
            << (T.acts ? "yes" : "no (below what the noise lets one see)") << " |\n";
     md << "\n";
     for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
@@ -349,7 +325,7 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
             for (const auto& m : R.per[k].mechanisms)
                 if (m.comp == R.mechanisms[u])
                     for (std::size_t q = 0; q < m.params.size(); ++q)
-                        md << " " << defs[m.params[q]].name << " = " << fmt(m.value[q], 3) << " (recording " << k + 1 << ")";
+                        md << " " << defs[m.params[q]].name << " = " << num(m.value[q], 3) << " (recording " << k + 1 << ")";
         md << "\n";
     }
     writeWholeFile(dir + "/report.md", md.str());
