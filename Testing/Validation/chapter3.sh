@@ -6,16 +6,19 @@
 # Usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [extra driver flags, e.g. --particles 2197]
 #   MUS="0 0.1 ..." the friction coefficients (default: the thesis' nine); JOBS=N runs N at once
 #   (use JOBS=2 with THREADS=1 on a 2-core machine); ANALYSE_ONLY=1 only re-reads OUT_DIR.
-#   Full scale: about 40 min of one core per mu; --particles 2197: about 8-12 min.
+#   Full scale: about 40 min of one core per mu; --particles 2197: 8-17 min (2026-12-01).
+#   A run that fails leaves OUT_DIR/UNI_muX.failed and is left out of the analysis.
 set -euo pipefail
+if (( $# < 2 )); then echo "usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [driver flags...]" >&2; exit 2; fi
 bin="$1"; out="$2"; threads="${3:-1}"; shift $(( $# < 3 ? $# : 3 ))
 extra=("$@")
 mus="${MUS:-0 0.01 0.02 0.05 0.1 0.2 0.3 0.5 1.0}"
 jobs="${JOBS:-1}"
 mkdir -p "$out"
-run() {
+run() {  # never fails (so that wait -n under set -e keeps going); a failure leaves a marker
+  rm -f "$out/UNI_mu$1.failed"
   "$bin/UniaxialCyclic" --preset thesis-ch3 --mu "$1" --v_i 0.692 --threads "$threads" --quiet --vtk 0 \
-    --output "$out" --name "UNI_mu$1" "${extra[@]}" > "$out/UNI_mu$1.log" 2>&1
+    --output "$out" --name "UNI_mu$1" "${extra[@]}" > "$out/UNI_mu$1.log" 2>&1 || touch "$out/UNI_mu$1.failed"
 }
 if [[ "${ANALYSE_ONLY:-0}" != 1 ]]; then
   running=0
@@ -28,8 +31,15 @@ if [[ "${ANALYSE_ONLY:-0}" != 1 ]]; then
 fi
 rc=0
 python3 - "$out" $mus <<'PY' || rc=$?
-import sys, csv
-out, mus = sys.argv[1], sys.argv[2:]
+import sys, csv, os
+out = sys.argv[1]
+mus = []
+for mu in sys.argv[2:]:
+    if os.path.exists(f"{out}/UNI_mu{mu}.failed") or not os.path.exists(f"{out}/UNI_mu{mu}.macro.csv"):
+        print(f"mu = {mu}: run failed or missing, left out (see {out}/UNI_mu{mu}.log)")
+    else:
+        mus.append(mu)
+if len(mus) < 2: sys.exit("fewer than two completed runs")
 print(f"{'mu':>5} {'s_dev_max':>9} {'s_dev(end of loading)':>21} {'F_dev_max':>9} {'eps_dev(s_dev=0, unloading)':>27} {'Ek/Ep<=1e-3':>11}")
 res = []
 for mu in mus:

@@ -26,9 +26,9 @@ PY
 done
 # Two devices, one material: cocoa in the lambdameter (Table 4.5) and in the FT4 (Table 4.4), explained
 # together; check: joint verdict missing_physics naming contact_relaxation; prints every transfer.
-"$BIN/pdpm-explain-data" thesis --material cocoa --device ft4 --seed 2 --data "$SHARED/data" --output "$OUT/cocoa-ft4-input" >/dev/null
+"$BIN/pdpm-explain-data" thesis --material cocoa --device ft4 --data "$SHARED/data" --output "$OUT/cocoa-ft4-input" >/dev/null
 "$BIN/pdpm-explain" --recording "$OUT/cocoa-input/recording.csv" "$OUT/cocoa-ft4-input/recording.csv" \
-  --protocol "$OUT/cocoa-input/protocol.json" "$OUT/cocoa-ft4-input/protocol.json" --output "$OUT/cocoa-two-devices" >/dev/null
+  --protocol "$OUT/cocoa-input/protocol.json" "$OUT/cocoa-ft4-input/protocol.json" --output "$OUT/cocoa-two-devices" --dem off >/dev/null
 python3 - "$OUT/cocoa-two-devices/report.json" "$OUT/cocoa-ft4-input/thesis-values.json" <<'PY' || fail=1
 import json, sys
 r = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))

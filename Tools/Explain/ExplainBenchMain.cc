@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
         if (!cli.parse(argc, argv, std::cout)) return 0;
         if (out.empty()) inputError("--output is required");
         const auto snrs = tools::parseNumberList("snr", snrText);
+        const auto pairSnrs = tools::parseNumberList("pair_snr", pairSnrText);  // checked before the long run
         std::vector<std::string> mechs;
         {
             std::string m = mechText;
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
             std::string w;
             while (is >> w) mechs.push_back(w);
         }
+        if (pairs > 0 && (mechs.empty() || pairSnrs.empty())) inputError("--pairs needs --mechanisms and --pair_snr");
         const double rhos[3] = {0.0, 0.5, 0.9};
         std::vector<Job> jobs;
         unsigned long s = (unsigned long)seed * 100000;
@@ -199,7 +201,7 @@ int main(int argc, char** argv) {
             md << " |\n";
         }
         if (pairs > 0)
-            md << "\n" << pairBenchmark(pairs, mechs, tools::parseNumberList("pair_snr", pairSnrText), samples,
+            md << "\n" << pairBenchmark(pairs, mechs, pairSnrs, samples,
                                         (unsigned long)seed);
         writeWholeFile(out + "/summary.md", md.str());
         std::ostringstream pc;

@@ -41,7 +41,7 @@ Transfer transfer(const std::vector<Recording>& recs, const std::vector<Protocol
     const Model M(makeModelInput(recs[b], protos[b]));
     const ExplainResult& own = per[b];
     const std::vector<char>& on = own.onBaseline;  // its baseline model; its own mechanisms stay off
-    const FitResult base = fitDevice(M, recs[b], own, on, {own.pBaseline});
+    const FitResult base = fitDevice(M, recs[b], own, on, {own.pBaseline, own.pFinal});
     std::vector<char> onAug = on;
     std::vector<double> start = base.p, startOwn = own.pFinal;
     for (int c : mechs) {
@@ -56,6 +56,8 @@ Transfer transfer(const std::vector<Recording>& recs, const std::vector<Protocol
     T.termRms = rmsOf(base.model, aug.model);
     T.acts = T.termRms >= own.minDetectableRms;
     T.noiseSigma = own.noise.sigma;
+    // whitened residual energies of the same free parameters: a log-likelihood ratio (times 2)
+    T.evidence = double(recs[b].size()) * std::log(std::max(base.rss, 1e-300) / std::max(aug.rss, 1e-300));
     return T;
 }
 
@@ -96,8 +98,8 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
                 Transfer T = transfer(recs, protos, R.per, a, b, {R.mechanisms[u]});
                 if (T.acts) {
                     R.testedElsewhere[u] = 1;
-                    if (T.gain() >= kConfirmGain) R.confirmed[u] = 1;
-                    if (T.gain() < 0) worse[u] = 1;
+                    if (T.evidence >= opt.bicThreshold) R.confirmed[u] = 1;
+                    if (T.evidence <= -opt.bicThreshold) worse[u] = 1;
                 }
                 R.transfers.push_back(std::move(T));
             }
@@ -108,8 +110,9 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
             for (const auto& m : r.mechanisms) R.foundIn[u] += m.comp == R.mechanisms[u];
         if (worse[u]) R.confirmed[u] = 0;
         R.status.push_back(R.confirmed[u]          ? "confirmed"
-                           : R.foundIn[u] >= 2     ? "recording_dependent"
                            : !R.testedElsewhere[u] ? "not_testable_elsewhere"
+                           : !worse[u]             ? "inconclusive"
+                           : R.foundIn[u] >= 2     ? "recording_dependent"
                                                    : "not_transferable");
     }
     // each recording's whole accepted set (when it has more than one mechanism)
@@ -128,27 +131,32 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
         allNull = allNull && r.verdict == "no_missing_physics";
         anyAmbiguous = anyAmbiguous || r.verdict == "ambiguous";
     }
-    std::vector<int> conf, recur, refuted, untested;
+    std::vector<int> conf, recur, refuted, open;
     for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
         const std::string& st = R.status[u];
-        (st == "confirmed" ? conf : st == "recording_dependent" ? recur : st == "not_transferable" ? refuted : untested)
+        (st == "confirmed" ? conf : st == "recording_dependent" ? recur : st == "not_transferable" ? refuted : open)
             .push_back(R.mechanisms[u]);
     }
+    std::string qualified;  // recordings whose own verdict was ambiguous or unexplained
+    for (std::size_t k = 0; k < R.per.size(); ++k)
+        if (R.per[k].verdict == "ambiguous" || R.per[k].verdict == "unexplained")
+            qualified += " Recording " + std::to_string(k + 1) + " on its own: " + R.per[k].verdict + " (" +
+                         R.per[k].summary + ")";
     if (allNull) {
         R.verdict = "no_missing_physics";
         sum << "None of the " << recs.size() << " recordings shows a mismatch beyond its noise.";
-    } else if (!conf.empty() || !recur.empty() || !untested.empty()) {
+    } else if (!conf.empty() || !recur.empty() || !open.empty()) {
         R.verdict = conf.empty() && recur.empty() && anyAmbiguous ? "ambiguous" : "missing_physics";
-        sum << "Missing: " << names(conf.empty() ? (recur.empty() ? untested : recur) : conf);
+        sum << "Missing: " << names(conf.empty() ? (recur.empty() ? open : recur) : conf);
         if (!conf.empty())
-            sum << " (confirmed on a held-out recording: the term calibrated on one recording lowers the error of another)";
+            sum << " (confirmed on a held-out recording: the term calibrated on one recording improves the fit of another)";
         if (!conf.empty() && !recur.empty()) sum << "; also " << names(recur);
         if (!recur.empty())
-            sum << " (found in several recordings, with parameters that differ "
-                << "between them, so one parameter set does not carry over)";
-        if ((!conf.empty() || !recur.empty()) && !untested.empty()) sum << "; also " << names(untested);
-        if (!untested.empty()) sum << " (in one recording; the others cannot test it)";
-        if (!refuted.empty()) sum << "; found in one recording but not carried over to the others: " << names(refuted);
+            sum << " (found in several recordings, but the parameters of one make another fit worse: they differ "
+                << "between the recordings)";
+        if ((!conf.empty() || !recur.empty()) && !open.empty()) sum << "; also " << names(open);
+        if (!open.empty()) sum << " (the other recordings can neither confirm nor contradict it)";
+        if (!refuted.empty()) sum << "; found in one recording but contradicted by another: " << names(refuted);
         sum << ".";
     } else if (R.mechanisms.empty()) {
         R.verdict = anyAmbiguous ? "ambiguous" : "unexplained";
@@ -156,9 +164,10 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
     } else {
         R.verdict = "unexplained";
         sum << "The mechanisms found in single recordings (" << names(R.mechanisms)
-            << ") do not carry over to the other recordings with the same material parameters: the difference "
+            << ") make the other recordings fit worse with the same material parameters: the difference "
             << "between the recordings is not explained by the library.";
     }
+    sum << qualified;
     R.summary = sum.str();
     return R;
 }
@@ -250,6 +259,7 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         o.set("heldout_rmse_augmented", T.rmseAugmented);
         o.set("gain", T.gain());
         o.set("excess_gain", T.excessGain());
+        o.set("evidence", T.evidence);
         o.set("term_rms_Pa", T.termRms);
         o.set("term_acts", T.acts);
         tr.push(o);
@@ -302,24 +312,26 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
     md << "\n## Does the physics found in one recording explain the others?\n\n"
        << "Each held-out recording is fitted twice with only its device parameters free (stiffness, zero strain, "
        << "compliance, drift): with the baseline alone, and with the mechanism switched on at the material "
-       << "parameters of the recording that found it. A mechanism counts as confirmed when that lowers the "
-       << "held-out recording's error by at least " << num(100 * kConfirmGain, 2)
-       << " % where its term acts, and raises it nowhere.\n\n"
-       << "| mechanisms | calibrated on | held-out recording | RMSE without (Pa) | RMSE with (Pa) | change | term acts |\n"
-       << "|---|---|---|---|---|---|---|\n";
+       << "parameters of the recording that found it (same free parameters in both fits). Evidence = n ln(RSS "
+       << "without / RSS with) of the whitened residuals; a mechanism counts as confirmed when it reaches "
+       << num(opt.bicThreshold, 3) << " (the acceptance threshold) on a recording where its term acts and falls "
+       << "below -" << num(opt.bicThreshold, 3) << " on none.\n\n"
+       << "| mechanisms | calibrated on | held-out recording | RMSE without (Pa) | RMSE with (Pa) | change | evidence | term acts |\n"
+       << "|---|---|---|---|---|---|---|---|\n";
     for (const auto& T : R.transfers)
         md << "| " << names(T.mechanisms) << " | " << T.from + 1 << " | " << T.to + 1 << " | " << num(T.rmseBaseline, 4)
-           << " | " << num(T.rmseAugmented, 4) << " | " << num(-100 * T.gain(), 3) << " % | "
+           << " | " << num(T.rmseAugmented, 4) << " | " << num(-100 * T.gain(), 3) << " % | " << num(T.evidence, 3) << " | "
            << (T.acts ? "yes" : "no (below what the noise lets one see)") << " |\n";
     md << "\n";
     for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
         const std::string& st = R.status[u];
         md << "- " << compName(R.mechanisms[u]) << " (found in " << R.foundIn[u] << " of " << recs.size() << "): "
            << (st == "confirmed"             ? "confirmed on a held-out recording"
-               : st == "recording_dependent" ? "present in several recordings, but its parameters differ between them "
-                                               "(device, geometry or rate dependence of the effective parameter)"
-               : st == "not_testable_elsewhere" ? "not testable on the other recordings"
-                                                : "not confirmed: it does not carry over to the other recordings")
+               : st == "recording_dependent" ? "present in several recordings, but the parameters of one make another "
+                                               "fit worse (device, geometry or rate dependence of the effective parameter)"
+               : st == "not_testable_elsewhere" ? "not testable on the other recordings (its term does not act there)"
+               : st == "inconclusive"           ? "acts on another recording, but neither clearly helps nor hurts there"
+                                                : "contradicted: it makes another recording fit worse")
            << ";";
         for (std::size_t k = 0; k < recs.size(); ++k)
             for (const auto& m : R.per[k].mechanisms)

@@ -5,12 +5,13 @@
 // did not see: the other recording is fitted twice with only its device parameters free (its own
 // baseline model: E, eps0, its nuisances) — once alone and once with the mechanism's terms switched
 // on at the material parameters of the recording that found it (C and t0, lambda, sigma_c, muK, tau_v,
-// n: not refitted). The error on that held-out recording with and without the transferred term is
-// the test: a mechanism is "confirmed on a held-out recording" when it lowers that error by at least
-// `kConfirmGain` on some held-out recording where its term acts, and raises it on none where it
-// acts. A mechanism accepted independently in several recordings whose parameters do not carry
-// over is still named, as "recording_dependent" (the thesis' cocoa relaxes with C 0.079 in the
-// lambdameter and 0.044 in the FT4). Documentation/tools-explain.md ("Several recordings") describes the verdict rules.
+// n: not refitted). The likelihood of that held-out recording with and without the transferred term
+// is the test (Transfer::evidence, against the explainer's acceptance threshold): "confirmed" when it
+// improves some held-out recording where its term acts and worsens none; "inconclusive" when it acts
+// but decides nothing; "recording_dependent" when it was accepted in several recordings but the
+// parameters of one make another worse (the thesis' cocoa relaxes with C 0.079 in the lambdameter and
+// 0.044 in the FT4); "not_transferable" when found in one recording and contradicted by another.
+// Documentation/tools-explain.md ("Several recordings") describes the verdict rules.
 #pragma once
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct Transfer {
     double termRms = 0;                          ///< RMS of (augmented - baseline) prediction on `to`, Pa
     bool acts = false;                           ///< the term changes the prediction by more than the noise allows to see
     double noiseSigma = 0;                       ///< noise sd of recording `to` (its own estimate), Pa
+    /// n ln(RSS_without / RSS_with) of the whitened residuals (same free parameters in both fits):
+    /// twice the log-likelihood ratio; >= the acceptance threshold confirms, <= -threshold contradicts
+    double evidence = 0;
     std::vector<double> yBaseline, yAugmented;
     double gain() const { return rmseBaseline > 0 ? 1 - rmseAugmented / rmseBaseline : 0; }
     /// The same for the error above the noise level, sqrt(max(0, rmse^2 - sigma^2)) (-1: baseline at noise level).
@@ -39,22 +43,18 @@ struct SeveralResult {
     std::vector<char> confirmed;          ///< per entry of `mechanisms`
     std::vector<char> testedElsewhere;    ///< per entry: its term acts on some held-out recording
     std::vector<int> foundIn;             ///< per entry: number of recordings that accepted it
-    /// per entry: "confirmed" (lowers a held-out recording's error, raises none), "recording_dependent"
-    /// (accepted in several recordings, but one parameter set does not carry over: device- or
-    /// rate-dependent parameters), "not_testable_elsewhere" (its term does not act on the other
-    /// recordings) or "not_transferable" (found in one recording; it does not help the others)
+    /// per entry: "confirmed", "inconclusive", "not_testable_elsewhere", "recording_dependent" or
+    /// "not_transferable" (see the file comment)
     std::vector<std::string> status;
     std::vector<Transfer> transfers;      ///< single mechanisms, then each recording's full accepted set
     std::string verdict, summary;
 };
 
-constexpr double kConfirmGain = 0.02;  ///< held-out recording error must fall by at least 2 %
-
 /// Explains every recording, then transfers the accepted mechanisms between them.
 SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vector<Protocol>& protos,
                              const ExplainOptions& opt);
 
-/// DIR/report.json, report.md, heldout_<a>_to_<b>.csv (+ PNG with gnuplot); each recording's own
+/// DIR/report.json, report.md, heldout_K_A_to_B.csv (transfer K, from A to B; + PNG with gnuplot); each recording's own
 /// report in DIR/recording_<k>/.
 void writeSeveralReport(const std::string& dir, const SeveralResult& r, const std::vector<Recording>& recs,
                         const std::vector<Protocol>& protos, const ExplainOptions& opt);
