@@ -6,7 +6,7 @@
 # Usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [extra driver flags, e.g. --particles 2197]
 #   MUS="0 0.1 ..." the friction coefficients (default: the thesis' nine); JOBS=N runs N at once
 #   (use JOBS=2 with THREADS=1 on a 2-core machine); ANALYSE_ONLY=1 only re-reads OUT_DIR.
-#   Full scale: about 40 min of one core per mu; --particles 2197: 8-17 min (2026-12-01).
+#   Full scale: about 35 min per mu on 2 threads; --particles 2197: 8-17 min on one core (2026-12-01).
 #   A run that fails leaves OUT_DIR/UNI_muX.failed and is left out of the analysis.
 set -euo pipefail
 if (( $# < 2 )); then echo "usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [driver flags...]" >&2; exit 2; fi

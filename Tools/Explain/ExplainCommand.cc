@@ -67,9 +67,12 @@ int runExplainCommand(const std::vector<std::string>& args) {
         const ExplainResult& r = recs.size() == 1 ? single : several.per[0];
         // Step 6: the DEM re-run (on the first recording); its block replaces the placeholder in report.json.
         const DemResult d = confirmWithDem(r, recs[0], protocols[0], dem, output + "/dem");
-        Json report = readJsonFile(output + "/report.json");
-        report.set("dem_confirmation", demJson(d));
-        writeJsonFile(output + "/report.json", report);
+        for (const std::string& dir : recs.size() == 1 ? std::vector<std::string>{output}
+                                                        : std::vector<std::string>{output, output + "/recording_1"}) {
+            Json report = readJsonFile(dir + "/report.json");
+            report.set("dem_confirmation", demJson(d));
+            writeJsonFile(dir + "/report.json", report);
+        }
         writeWholeFile(output + "/report.md", readWholeFile(output + "/report.md") + demMarkdown(d));
         if (d.status == "done")
             std::cout << "DEM confirmation (" << d.mechanism << "): held-out RMSE " << d.heldoutBaseline << " Pa -> "
