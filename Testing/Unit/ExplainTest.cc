@@ -173,6 +173,51 @@ TEST(ExplainFit, RecoversRelaxationParametersFromCleanData) {
     EXPECT_NEAR(f.p[pE], 2e6, 0.01 * 2e6);
 }
 
+// Three ramps, each followed by a 300 s hold that decays by Eq. 4.3 with its own C and t0 (C falling
+// with stress as in thesis Table 4.5); AR(1) noise. Each hold's C must come back within
+// 2 % (t0 within 15 %), and the stress exponent of C must be positive.
+TEST(ExplainHoldFits, RecoversEachHoldsParametersAndTheStressTrend) {
+    Recording rec;
+    std::mt19937_64 g(3);
+    std::normal_distribution<double> N(0, 1);
+    const double Cs[3] = {0.08, 0.06, 0.045}, t0s[3] = {0.3, 0.2, 0.5}, sh[3] = {5e3, 10e3, 20e3};
+    double t = 0, e = 0, noise = 0;
+    auto emit = [&](double s) {
+        noise = 0.5 * noise + std::sqrt(0.75) * 10.0 * N(g);
+        rec.t.push_back(t);
+        rec.strain.push_back(e);
+        rec.stress.push_back(s + noise);
+        t += 0.2;
+    };
+    for (int k = 0; k < 3; ++k) {
+        // ramp: 500 samples from the previous hold's strain (the first one still at that strain)
+        const double e0 = e, e1 = 0.05 * (k + 1);
+        for (int j = 0; j < 500; ++j) {
+            e = e0 + (e1 - e0) * j / 500.0;
+            emit(sh[k] * e / e1);
+        }
+        e = e1;
+        const double th = t;
+        while (t - th < 300) emit(sh[k] * std::pow(1 + (t - th) / t0s[k], -Cs[k]));
+    }
+    const HoldFitSummary s = fitHolds(rec, 0.5);
+    ASSERT_EQ(s.holds.size(), 3u);
+    for (int k = 0; k < 3; ++k) {
+        const HoldFit& h = s.holds[std::size_t(k)];
+        EXPECT_NEAR(h.C, Cs[k], 0.02 * Cs[k]) << "hold " << k;
+        // the interval is informative (its coverage is a statistical property, not checked per case)
+        EXPECT_LT(h.cHi - h.cLo, 0.04 * Cs[k]);
+        EXPECT_LT(h.cLo, h.C);
+        EXPECT_GT(h.cHi, h.C);
+        EXPECT_NEAR(h.t0, t0s[k], 0.15 * t0s[k]) << "hold " << k;
+        EXPECT_NEAR(h.stressStart, sh[k], 0.01 * sh[k]);
+        EXPECT_LT(h.rmse, 12.0);
+    }
+    EXPECT_GT(s.beta, 0.2);
+    const Json j = holdFitsJson(s);
+    EXPECT_EQ(j.at("holds").asArray().size(), 3u);
+}
+
 TEST(ExplainInput, BadInputsAreInputErrors) {
     const pdpm::testing::TempDir tmp;  // removed when the test ends
     const std::string d = tmp.str();

@@ -1,7 +1,10 @@
 #!/bin/bash
 # Real recording (a): thesis chapter 4 cocoa and limestone relaxation (lambdameter, protocol 1),
 # reconstructed from Tables 4.4/4.5. Checks: contact_relaxation named, holds localised, C within
-# 25 % of the thesis' mean C of the five holds.
+# 25 % of the thesis' C: the thesis fits Eq. 4.3 to each hold separately, so the comparison is the
+# report's per-hold fit (mechanisms[].per_hold) against each hold's table value, and their mean against
+# the table mean; the model's single global C is printed next to it (it is a compromise over holds
+# whose C falls with stress, and it is biased low; see Documentation/tools-explain.md).
 source "$(dirname "$0")/explain-common.sh"
 [ -f "$SHARED/data/thesis/table_4_5_relaxation_materials.csv" ] || { echo "SKIP: thesis tables absent"; exit 77; }
 fail=0
@@ -13,14 +16,24 @@ import json, sys
 r = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2])); m = sys.argv[3]
 names = [x['name'] for x in r['mechanisms']]
 ok = 'contact_relaxation' in names
-C = None
+C = None; per = []
 for x in r['mechanisms']:
-    if x['name'] == 'contact_relaxation': C = x['parameters']['C']['value']; ci = x['parameters']['C']['ci95']
+    if x['name'] == 'contact_relaxation':
+        C = x['parameters']['C']['value']; ci = x['parameters']['C']['ci95']
+        per = [h['C'] for h in x['per_hold']['holds']]
 holds = sum(w['share_of_excess_residual'] for w in r['windows'] if w['mismatch'] and w['phase'] == 'hold')
 acts = sorted({w['phase'] for x in r['mechanisms'] if x['name'] == 'contact_relaxation' for w in x.get('acts_in', [])})
 print(f"{m}: verdict {r['verdict']}, mechanisms {names}, C = {C} (95 % {ci if C else '-'}) vs thesis mean {t['C_mean']:.4f}, "
       f"share of excess in hold windows {holds:.2f}, contact_relaxation acts in {acts}")
-if C is not None: ok = ok and abs(C - t['C_mean']) <= 0.25 * t['C_mean']
+tab = t['C_per_hold']
+if C is not None:
+    print(f"  global C {C:.4f}: {100 * (C / t['C_mean'] - 1):+.0f} % against the table mean")
+    for k, (a, b) in enumerate(zip(per, tab)):
+        print(f"  hold {k + 1}: C {a:.4f} vs table {b:.4f} ({100 * (a / b - 1):+.1f} %)")
+    mean = sum(per) / len(per) if per else float('nan')
+    print(f"  per-hold mean C {mean:.4f} vs table mean {t['C_mean']:.4f} ({100 * (mean / t['C_mean'] - 1):+.1f} %)")
+    ok = ok and len(per) == len(tab) and all(abs(a - b) <= 0.25 * b for a, b in zip(per, tab)) \
+        and abs(mean - t['C_mean']) <= 0.25 * t['C_mean']
 sys.exit(0 if ok else 1)
 PY
 done
@@ -39,6 +52,11 @@ for m in r['mechanisms']:
 for x in r['heldout_recordings']:
     print(f"  {'+'.join(x['mechanisms'])} from {x['calibrated_on']:.0f} on {x['heldout_recording']:.0f}: RMSE {x['heldout_rmse_baseline']:.1f} -> {x['heldout_rmse_augmented']:.1f} Pa ({-100 * x['gain']:+.1f} %)")
 print(f"  thesis FT4 mean C {t['C_mean']:.4f}")
+ft4 = json.load(open(sys.argv[1].replace('report.json', 'recording_2/report.json')))
+for m in ft4['mechanisms']:
+    if m['name'] == 'contact_relaxation':
+        per = [h['C'] for h in m['per_hold']['holds']]
+        print(f"  FT4 per-hold C {', '.join(f'{c:.4f}' for c in per)} vs table {', '.join(f'{c:.4f}' for c in t['C_per_hold'])}")
 ok = r['verdict'] == 'missing_physics' and any(m['name'] == 'contact_relaxation' for m in r['mechanisms'])
 sys.exit(0 if ok else 1)
 PY

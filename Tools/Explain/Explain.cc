@@ -485,7 +485,6 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     if (cands.empty())
         for (int c = kRelaxation; c < kNumComp; ++c) cands.push_back(c);
     std::vector<int> accepted;
-    std::vector<double> bicWeightsBase;
     bool ambiguous = false;
     for (int round = 1; round <= opt.maxMechanisms; ++round) {
         const double bicCur = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
@@ -574,14 +573,6 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (std::size_t k = 0; k < roundC.size(); ++k)
             if (roundC[k].testable) order.push_back(k);
         std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return roundC[a].dBIC > roundC[b].dBIC; });
-        if (round == 1) {  // BIC weights of "nothing" and each single mechanism: inclusion probabilities
-            double mx = 0;
-            for (std::size_t k : order) mx = std::max(mx, roundC[k].dBIC);
-            double z = std::exp(-0.5 * mx);
-            for (std::size_t k : order) z += std::exp(0.5 * (roundC[k].dBIC - mx));
-            bicWeightsBase.assign(kNumComp, 0.0);
-            for (std::size_t k : order) bicWeightsBase[roundC[k].comp] = std::exp(0.5 * (roundC[k].dBIC - mx)) / z;
-        }
         int chosen = -1;
         for (std::size_t oi = 0; oi < order.size(); ++oi) {
             Candidate& cd = roundC[order[oi]];
@@ -655,6 +646,33 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         }
     }
 
+    // inclusion probability of each accepted mechanism: its BIC weight among the alternatives of the
+    // round in which it was added ("nothing more" and the candidates that are not in the final model),
+    // times the BIC probability that the final model needs it at all (the final model against the
+    // same model without it, even prior odds)
+    std::vector<double> inclusion(kNumComp, 0.0);
+    {
+        const double bicFull = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
+        for (int c : accepted) {
+            std::vector<char> on2 = on;
+            on2[c] = 0;
+            const FitResult f = F.fit(on2, {cur.p});
+            const double dropBic = bic(f.rss, n, nLik, nm.nEff, nFree(M, on2)) - bicFull;
+            int round = 0;
+            double own = 0;
+            for (const auto& cd : R.candidates)
+                if (cd.comp == c && cd.testable && cd.round >= round) {
+                    round = cd.round;
+                    own = cd.dBIC;
+                }
+            double z = std::exp(-0.5 * std::min(own, 1400.0));  // "nothing more", relative to c
+            for (const auto& cd : R.candidates)
+                if (cd.round == round && cd.testable && (cd.comp == c || !on[cd.comp]))
+                    z += std::exp(0.5 * std::clamp(cd.dBIC - own, -1400.0, 1400.0));
+            inclusion[std::size_t(c)] = (1 / z) / (1 + std::exp(-0.5 * std::clamp(dropBic, -1400.0, 1400.0)));
+        }
+    }
+
     // ---- 6. final model, held-out errors ----
     R.pFinal = cur.p;
     R.onFinal = on;
@@ -701,7 +719,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             m.lo.push_back(std::max(lo, d.lo));
             m.hi.push_back(std::min(hi, d.hi));
         }
-        m.inclusionProbability = bicWeightsBase.empty() ? 0 : bicWeightsBase[c];
+        m.inclusionProbability = inclusion[std::size_t(c)];
         {  // where the term acts
             std::vector<char> onOff = on;
             onOff[c] = 0;
@@ -733,6 +751,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     m.actsIn.push_back(w);
                 }
         }
+        if (c == kRelaxation) m.perHold = fitHolds(rec, nm.rho);
         R.mechanisms.push_back(m);
     }
 
@@ -772,17 +791,30 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
 
 // ---- report ---------------------------------------------------------------------------------
 
-namespace {
-
 std::string gnuplotQuote(const std::string& s) {
     std::string o = "'";
     for (char c : s) o += (c == '\'') ? std::string("''") : std::string(1, c);
     return o + "'";
 }
 
+namespace {
 bool haveGnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
-
 } // namespace
+
+void runGnuplot(const std::string& script, const std::vector<std::string>& pngs) {
+    if (!haveGnuplot()) return;
+    std::string sh = "'";
+    for (char c : script) sh += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+    sh += "'";
+    const int rc = std::system(("gnuplot " + sh + " >/dev/null 2>&1").c_str());
+    for (const auto& f : pngs) {
+        std::error_code ec;
+        if (rc == 0 && std::filesystem::exists(f + ".tmp"))
+            std::filesystem::rename(f + ".tmp", f, ec);
+        else
+            std::filesystem::remove(f + ".tmp", ec);
+    }
+}
 
 Json parametersJson(const MechanismResult& m, const std::vector<ParDef>& defs) {
     Json ps = Json::object();
@@ -844,6 +876,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             acts.push(o);
         }
         mj.set("acts_in", acts);
+        if (m.comp == kRelaxation) mj.set("per_hold", holdFitsJson(m.perHold));
         mechs.push(mj);
     }
     j.set("mechanisms", mechs);
@@ -983,7 +1016,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             for (std::size_t k = 0; k < m.params.size(); ++k)
                 md << (k ? ", " : "") << defs[m.params[k]].name << " = " << num(m.value[k], 4) << " " << defs[m.params[k]].unit
                    << " (95 %: " << num(m.lo[k], 3) << " to " << num(m.hi[k], 3) << ")";
-            md << "; probability that it is the one missing (BIC weight) " << num(m.inclusionProbability, 3);
+            md << "; inclusion probability (BIC) " << num(m.inclusionProbability, 3);
             if (!m.actsIn.empty()) {
                 md << "; the term acts mainly in";
                 for (std::size_t k = 0; k < m.actsIn.size(); ++k)
@@ -993,6 +1026,21 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             md << "\n";
         }
         md << "\n";
+        for (const auto& m : R.mechanisms)
+            if (m.comp == kRelaxation && !m.perHold.holds.empty()) {
+                const auto& ph = m.perHold;
+                md << "Each hold fitted on its own with thesis Eq. 4.3 (as in thesis Tables 4.4/4.5; raw recorded stress):\n\n"
+                      "| hold start (s) | sigma_h (Pa) | C (95 %) | t0 (s) (95 %) | RMS residual (Pa) |\n|---|---|---|---|---|\n";
+                for (const auto& h : ph.holds)
+                    md << "| " << num(h.tStart, 5) << " | " << num(h.stressStart, 5) << " | " << num(h.C, 4) << " ("
+                       << num(h.cLo, 3) << " to " << num(h.cHi, 3) << ") | " << num(h.t0, 3) << " (" << num(h.t0Lo, 2)
+                       << " to " << num(h.t0Hi, 2) << ") | " << num(h.rmse, 3) << " |\n";
+                md << "\nMean C over the holds " << num(ph.meanC, 4);
+                if (std::isfinite(ph.beta))
+                    md << "; C changes with the hold stress as sigma_h^(" << num(-ph.beta, 3) << " +- " << num(ph.betaSe, 2)
+                       << ")" << (ph.beta > 2 * ph.betaSe ? " (falls with stress, as the thesis reports for cocoa and limestone)" : "");
+                md << ". The model's single C is a compromise over all holds.\n\n";
+            }
     }
     md << "## Fit\n\n| | baseline | augmented |\n|---|---|---|\n";
     md << "| RMSE (Pa) | " << num(R.rmseBaseline, 5) << " | " << num(R.rmseAugmented, 5) << " |\n";
@@ -1003,9 +1051,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     for (const auto& c : R.candidates)
         md << "| " << c.round << " | " << compName(c.comp) << " | " << (c.testable ? num(c.dBIC, 4) : "-") << " | "
            << (c.testable ? num(c.orthFraction, 3) : "-") << " | " << (c.accepted ? "yes" : "no") << " | " << c.note << " |\n";
-    md << "\n## DEM confirmation\n\nNot run yet: the DEM re-run with the matching contact ingredient is the next step "
-          "(see Documentation/tools-explain.md).\n\n";
-    md << "Figures: `fit.png` (recording, baseline, augmented; mismatch windows shaded), `residual.png` "
+    md << "\nFigures: `fit.png` (recording, baseline, augmented; mismatch windows shaded), `residual.png` "
           "(normalised residual), `candidates.png` (dBIC of every candidate).\n";
     writeWholeFile(dir + "/report.md", md.str());
 
@@ -1036,18 +1082,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         gp << "plot " << gnuplotQuote(d + "candidates.csv") << " every ::1 u 4:xtic(stringcolumn(1).':'.stringcolumn(2)) lc rgb '#4477aa', "
            << opt.bicThreshold << " w l lc rgb 'red'\n";
         writeWholeFile(dir + "/figures.gp", gp.str());
-        std::string sh = "'";
-        for (char c : dir + "/figures.gp") sh += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-        sh += "'";
-        const std::string cmd = "gnuplot " + sh + " >/dev/null 2>&1";
-        const int rc = std::system(cmd.c_str());
-        for (const char* f : {"fit.png", "residual.png", "candidates.png"}) {
-            std::error_code ec;
-            if (rc == 0 && std::filesystem::exists(d + f + ".tmp"))
-                std::filesystem::rename(d + f + ".tmp", d + f, ec);
-            else
-                std::filesystem::remove(d + f + ".tmp", ec);
-        }
+        runGnuplot(dir + "/figures.gp", {d + "fit.png", d + "residual.png", d + "candidates.png"});
     }
 }
 

@@ -7,6 +7,7 @@
 
 #include "ExplainData.h"
 #include "ExplainModel.h"
+#include "HoldFits.h"
 #include "IO/Json.h"
 
 namespace pdpm::explain {
@@ -63,6 +64,8 @@ struct MechanismResult {
     /// protocol phases where the added term itself acts (final model minus the same model with the
     /// term switched off), as opposed to `windows`, where the baseline disagrees with the recording
     std::vector<Window> actsIn;
+    /// contact_relaxation only: Eq. 4.3 fitted to each hold separately (the thesis' per-hold C, t0)
+    HoldFitSummary perHold;
 };
 
 struct ExplainResult {
@@ -106,6 +109,13 @@ Json windowJson(const Window& w);
 std::string num(double x, int prec = 4);
 /// Root-mean-square difference of two equally long series.
 double rmsOf(const std::vector<double>& a, const std::vector<double>& b);
+
+/// A path quoted for a gnuplot script ('...' with '' for a quote).
+std::string gnuplotQuote(const std::string& s);
+/// Runs gnuplot on `script` (when gnuplot is installed; nothing otherwise). The script writes each
+/// figure of `pngs` to PNG.tmp; on success every PNG.tmp is renamed to PNG, otherwise removed, so a
+/// failed or killed plot never leaves a half-written figure.
+void runGnuplot(const std::string& script, const std::vector<std::string>& pngs);
 
 /// Experiment that separates two mechanisms.
 std::string separatingExperiment(int a, int b);

@@ -72,8 +72,8 @@ int runExplainCommand(const std::vector<std::string>& args) {
             Json report = readJsonFile(dir + "/report.json");
             report.set("dem_confirmation", demJson(d));
             writeJsonFile(dir + "/report.json", report);
+            writeWholeFile(dir + "/report.md", readWholeFile(dir + "/report.md") + demMarkdown(d));
         }
-        writeWholeFile(output + "/report.md", readWholeFile(output + "/report.md") + demMarkdown(d));
         if (d.status == "done")
             std::cout << "DEM confirmation (" << d.mechanism << "): held-out RMSE " << d.heldoutBaseline << " Pa -> "
                       << d.heldoutAugmented << " Pa (" << d.runs.size() << " DEM runs, " << d.wallSeconds << " s)\n";

@@ -276,10 +276,9 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
     writeJsonFile(dir + "/report.json", j);
 
     // held-out series and figures
-    const bool gp = opt.figures && std::system("command -v gnuplot >/dev/null 2>&1") == 0;
     for (std::size_t q = 0; q < R.transfers.size(); ++q) {
         const Transfer& T = R.transfers[q];
-        const std::string stem = "heldout_" + std::to_string(q + 1) + "_" + std::to_string(T.from + 1) + "_to_" +
+        const std::string stem = dir + "/heldout_" + std::to_string(q + 1) + "_" + std::to_string(T.from + 1) + "_to_" +
                                  std::to_string(T.to + 1);
         const Recording& rec = recs[T.to];
         std::ostringstream os;
@@ -288,18 +287,18 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         os << "time_s,axial_stress_Pa,baseline_Pa,augmented_Pa\n" << std::setprecision(10);
         for (std::size_t i = 0; i < rec.size(); ++i)
             os << rec.t[i] << ',' << rec.stress[i] << ',' << T.yBaseline[i] << ',' << T.yAugmented[i] << '\n';
-        writeWholeFile(dir + "/" + stem + ".csv", os.str());
-        if (!gp) continue;
+        writeWholeFile(stem + ".csv", os.str());
+        if (!opt.figures) continue;
         std::ostringstream g;
-        g << "set terminal pngcairo size 1000,500 noenhanced\nset output '" << dir << "/" << stem << ".png'\n"
+        g << "set terminal pngcairo size 1000,500 noenhanced\nset output " << gnuplotQuote(stem + ".png.tmp") << "\n"
           << "set datafile separator ','\nset xlabel 'time (s)'\nset ylabel 'axial stress (Pa)'\nset key left top\n"
           << "set title 'held-out recording " << T.to + 1 << ": " << names(T.mechanisms) << " from recording "
           << T.from + 1 << "'\n"
-          << "plot '" << dir << "/" << stem << ".csv' u 1:2 w l lc rgb '#999999' t 'recording', '' u 1:3 w l lw 2 t "
+          << "plot " << gnuplotQuote(stem + ".csv") << " u 1:2 w l lc rgb '#999999' t 'recording', '' u 1:3 w l lw 2 t "
           << "'baseline (RMSE " << num(T.rmseBaseline, 3) << " Pa)', '' u 1:4 w l lw 2 t 'with the transferred term(s) (RMSE "
           << num(T.rmseAugmented, 3) << " Pa)'\n";
-        writeWholeFile(dir + "/" + stem + ".gp", g.str());
-        if (std::system(("gnuplot '" + dir + "/" + stem + ".gp' >/dev/null 2>&1").c_str()) != 0) { /* figure optional */ }
+        writeWholeFile(stem + ".gp", g.str());
+        runGnuplot(stem + ".gp", {stem + ".png"});
     }
 
     std::ostringstream md;
