@@ -218,6 +218,26 @@ TEST(ExplainHoldFits, RecoversEachHoldsParametersAndTheStressTrend) {
     EXPECT_EQ(j.at("holds").asArray().size(), 3u);
 }
 
+// A compliance in series with a plastic unloading branch: the estimate follows the apparent ratio
+// lam (1 + kappa) / (1 + lam kappa), and the interval must say that lam itself may be larger.
+TEST(ExplainIntervals, LeftOutComplianceWidensThePlasticityInterval) {
+    GeneratedCase g;
+    const ExplainResult r = runCase({"plasticity", 5, 0.5, 100002, 2000}, &g);
+    const double lam = g.truth.at("parameters").at("unload_stiffness_ratio").asNumber();
+    const double kap = g.truth.at("baseline_and_nuisances").at("compliance_ratio").asNumber();
+    ASSERT_GT(kap, 0.03);
+    const MechanismResult* m = nullptr;
+    for (const auto& x : r.mechanisms)
+        if (x.comp == kPlasticity) m = &x;
+    ASSERT_NE(m, nullptr);
+    const double apparent = lam * (1 + kap) / (1 + lam * kap);
+    EXPECT_NEAR(m->value[0], apparent, 0.1 * apparent);
+    EXPECT_LT(m->value[0], 0.75 * lam);  // so the point estimate alone would mislead
+    EXPECT_LE(m->lo[0], lam);
+    EXPECT_GE(m->hi[0], lam);
+    EXPECT_NE(std::find(m->widenedBy.begin(), m->widenedBy.end(), "instrument_compliance"), m->widenedBy.end());
+}
+
 TEST(ExplainInput, BadInputsAreInputErrors) {
     const pdpm::testing::TempDir tmp;  // removed when the test ends
     const std::string d = tmp.str();

@@ -115,11 +115,12 @@ struct Fitter {
     double inflation;
     Whitener whitener{};
     FitResult fit(const std::vector<char>& on, const std::vector<std::vector<double>>& starts,
-                  const std::vector<double>& weights = {}) const {
+                  const std::vector<double>& weights = {}, int heldFixed = -1) const {
         FitResult best;
         best.rss = std::numeric_limits<double>::infinity();
         FitOptions fo;
         fo.freeParams = freeParamsFor(model, on);
+        if (heldFixed >= 0) fo.freeParams.erase(std::remove(fo.freeParams.begin(), fo.freeParams.end(), heldFixed), fo.freeParams.end());
         fo.weights = weights;
         fo.covInflation = inflation;
         fo.whitener = whitener;
@@ -700,19 +701,55 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     R.heldoutBaseline = heldoutRmse(F, R.onBaseline, R.pBaseline, opt.folds, foldOf);
     R.heldoutAugmented = accepted.empty() ? R.heldoutBaseline : heldoutRmse(F, on, cur.p, opt.folds, foldOf);
 
+    // The nuisances the selection left out are not known to be absent: a compliance that does not
+    // show on loading (it only rescales E there) trades off against an unloading-stiffness ratio, for
+    // example. Each accepted mechanism's 95 % interval is therefore the envelope of the intervals of
+    // the final model and of the final model plus each left-out nuisance.
+    // The compliance is profiled (held at fixed values, the rest refitted) because it can sit in a flat
+    // valley with a mechanism parameter where a free fit stops at its bound; a profile point enters
+    // when its likelihood-ratio statistic nLik ln(RSS/RSS_min) is within 3.84 (95 %, one parameter).
+    std::vector<FitResult> withNuisance;
+    std::vector<int> leftOut;
+    if (!accepted.empty())
+        for (int c : nuis)
+            if (!on[c]) {
+                std::vector<char> on2 = on;
+                on2[c] = 1;
+                std::vector<FitResult> fits{F.fit(on2, startsFor(M, c, cur.p))};
+                if (c == kCompliance)
+                    for (double kap : {0.02, 0.05, 0.1, 0.2, 0.3}) {
+                        std::vector<double> st = cur.p;
+                        st[pKappa] = kap;
+                        fits.push_back(F.fit(on2, {st}, {}, pKappa));
+                    }
+                double rmin = cur.rss;
+                for (const auto& f : fits) rmin = std::min(rmin, f.rss);
+                for (auto& f : fits)
+                    if (nLik * std::log(std::max(f.rss, 1e-300) / std::max(rmin, 1e-300)) <= 3.84) {
+                        withNuisance.push_back(std::move(f));
+                        leftOut.push_back(c);
+                    }
+            }
+    auto interval = [&](const ParDef& d, double v, double se) {
+        if (!std::isfinite(se)) return std::pair<double, double>(d.lo, d.hi);
+        if (d.logScale && v > 0) return std::pair<double, double>(v * std::exp(-1.96 * se / v), v * std::exp(1.96 * se / v));
+        return std::pair<double, double>(v - 1.96 * se, v + 1.96 * se);
+    };
     for (int c : accepted) {
         MechanismResult m;
         m.comp = c;
         for (int k : M.paramsOf(c)) {
             const ParDef& d = M.defs()[k];
-            const double v = cur.p[k], se = cur.se[k];
-            double lo, hi;
-            if (d.logScale && v > 0) {
-                lo = v * std::exp(-1.96 * se / v);
-                hi = v * std::exp(1.96 * se / v);
-            } else {
-                lo = v - 1.96 * se;
-                hi = v + 1.96 * se;
+            const double v = cur.p[k];
+            auto [lo, hi] = interval(d, v, cur.se[k]);
+            for (std::size_t a = 0; a < withNuisance.size(); ++a) {
+                const auto [l2, h2] = interval(d, withNuisance[a].p[k], withNuisance[a].se[k]);
+                if (l2 < lo - 1e-12 * std::fabs(lo) || h2 > hi + 1e-12 * std::fabs(hi)) {
+                    const std::string nn = compName(leftOut[a]);
+                    if (std::find(m.widenedBy.begin(), m.widenedBy.end(), nn) == m.widenedBy.end()) m.widenedBy.push_back(nn);
+                }
+                lo = std::min(lo, l2);
+                hi = std::max(hi, h2);
             }
             m.params.push_back(k);
             m.value.push_back(v);
@@ -877,6 +914,9 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         }
         mj.set("acts_in", acts);
         if (m.comp == kRelaxation) mj.set("per_hold", holdFitsJson(m.perHold));
+        Json wb = Json::array();
+        for (const auto& w : m.widenedBy) wb.push(w);
+        mj.set("interval_widened_by", wb);
         mechs.push(mj);
     }
     j.set("mechanisms", mechs);
@@ -1016,6 +1056,11 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             for (std::size_t k = 0; k < m.params.size(); ++k)
                 md << (k ? ", " : "") << defs[m.params[k]].name << " = " << num(m.value[k], 4) << " " << defs[m.params[k]].unit
                    << " (95 %: " << num(m.lo[k], 3) << " to " << num(m.hi[k], 3) << ")";
+            if (!m.widenedBy.empty()) {
+                md << " (intervals include the possibility of";
+                for (std::size_t k = 0; k < m.widenedBy.size(); ++k) md << (k ? " or " : " ") << m.widenedBy[k];
+                md << ", which the fit left out but cannot exclude)";
+            }
             md << "; inclusion probability (BIC) " << num(m.inclusionProbability, 3);
             if (!m.actsIn.empty()) {
                 md << "; the term acts mainly in";

@@ -64,6 +64,8 @@ struct MechanismResult {
     /// protocol phases where the added term itself acts (final model minus the same model with the
     /// term switched off), as opposed to `windows`, where the baseline disagrees with the recording
     std::vector<Window> actsIn;
+    /// left-out nuisances whose inclusion widened the 95 % intervals (see explain(), step 6)
+    std::vector<std::string> widenedBy;
     /// contact_relaxation only: Eq. 4.3 fitted to each hold separately (the thesis' per-hold C, t0)
     HoldFitSummary perHold;
 };

@@ -231,6 +231,11 @@ GeneratedCase generateCase(const CaseSpec& spec) {
     tr.set("mechanisms", ms);
     tr.set("out_of_library", !ool.empty());
     tr.set("parameters", tp);
+    {
+        Json nu = Json::object();
+        for (int k : {pE, pEps0, pKappa, pOffset, pDrift}) nu.set(M.defs()[k].name, p[k]);
+        tr.set("baseline_and_nuisances", nu);
+    }
     if (!primaryName.empty()) {
         tr.set("primary_parameter", primaryName);
         tr.set("primary_value", primaryValue);
@@ -362,8 +367,12 @@ CaseScore scoreCase(const Json& report, const Json& truth) {
         const double tv = truth.at("primary_value").asNumber(), off = truth.at("primary_off").asNumber();
         for (const auto& m : report.at("mechanisms").asArray()) {
             const Json* pj = m.at("parameters").find(pn);
-            if (pj && m.at("name").asString() == tm.front().asString())
+            if (pj && m.at("name").asString() == tm.front().asString()) {
                 s.paramRelError = std::abs(pj->at("value").asNumber() - tv) / std::abs(tv - off);
+                const auto& ci = pj->at("ci95").asArray();
+                if (ci.size() == 2 && ci[0].isNumber() && ci[1].isNumber())
+                    s.paramCovered = ci[0].asNumber() <= tv && tv <= ci[1].asNumber();
+            }
         }
     }
     const Json& f = report.at("fit");

@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
         double forcedGainMax = -1e9, forcedGainSum = 0;
         std::map<double, std::pair<int, int>> power;  // snr -> detected, total
         std::map<std::string, std::map<double, std::pair<int, int>>> powerM;
-        int det = 0, correct = 0, iouOk = 0, parN = 0, parOk = 0, gainN = 0, gainOk = 0, exGainOk = 0;
+        int det = 0, correct = 0, iouOk = 0, parN = 0, parOk = 0, gainN = 0, gainOk = 0, exGainOk = 0, covN = 0, covOk = 0;
         double iouSum = 0;
         int ool = 0, oolOk = 0, two = 0, twoDet = 0, twoBoth = 0;
         std::map<std::string, std::map<std::string, int>> confusion;
@@ -159,6 +159,10 @@ int main(int argc, char** argv) {
                     ++parN;
                     parOk += c.paramRelError <= 0.25;
                 }
+                if (c.paramCovered >= 0) {
+                    ++covN;
+                    covOk += c.paramCovered;
+                }
                 ++gainN;
                 gainOk += c.heldoutGain >= 0.3;
                 exGainOk += c.heldoutExcessGain >= 0.3;
@@ -186,10 +190,14 @@ int main(int argc, char** argv) {
         md << "| window IoU, mean over detections | - | " << std::fixed << std::setprecision(2) << (det ? iouSum / det : 0.0)
            << std::defaultfloat << " |\n";
         md << "| primary parameter within 25 % (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN) << " |\n";
+        md << "| primary parameter's 95 % interval holds the truth (detections, all SNR) | - | " << countShare(covOk, covN) << " |\n";
         md << "| held-out error reduced >= 30 % (detections) | >= 30 % reduction when truly missing | " << countShare(gainOk, gainN) << " |\n";
         md << "| held-out error above the noise level reduced >= 30 % (detections) | - | " << countShare(exGainOk, gainN) << " |\n";
-        md << "| forced addition on null cases: held-out gain (mean / max) | <= 2 % | " << std::setprecision(3)
-           << 100 * forcedGainSum / std::max(1, nForced) << " % / " << 100 * forcedGainMax << " % (" << nForced << " cases) |\n";
+        md << "| forced addition on null cases: held-out gain (mean / max) | <= 2 % | ";
+        if (nForced > 0)
+            md << std::setprecision(3) << 100 * forcedGainSum / nForced << " % / " << 100 * forcedGainMax << " % (" << nForced << " cases) |\n";
+        else
+            md << "- (0 cases) |\n";
         md << "| two mechanisms (relaxation + plasticity, SNR 5): detected / both named | - | " << countShare(twoDet, two) << " / "
            << countShare(twoBoth, two) << " |\n";
         md << "| out-of-library effects answered 'unexplained' | - | " << countShare(oolOk, ool) << " |\n\n";

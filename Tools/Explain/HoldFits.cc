@@ -74,7 +74,7 @@ HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples
                 --e;  // the first sample of the next ramp may still carry the hold's strain
             }
             HoldFit h = fitOne(rec, b, e, widen);
-            if (h.C > 0 && h.stressStart > 0) s.holds.push_back(h);
+            if (std::isfinite(h.C) && std::isfinite(h.stressStart) && h.C > 0 && h.stressStart > 0) s.holds.push_back(h);
         }
     s.beta = s.betaSe = std::numeric_limits<double>::quiet_NaN();
     if (s.holds.empty()) return s;
@@ -103,6 +103,10 @@ HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples
     return s;
 }
 
+namespace {
+Json finiteOrNull(double x) { return std::isfinite(x) ? Json(x) : Json(); }
+} // namespace
+
 Json holdFitsJson(const HoldFitSummary& s) {
     Json a = Json::array();
     for (const auto& h : s.holds) {
@@ -110,18 +114,18 @@ Json holdFitsJson(const HoldFitSummary& s) {
         o.set("t_start_s", h.tStart);
         o.set("t_end_s", h.tEnd);
         o.set("samples", double(h.samples));
-        o.set("stress_start_Pa", h.stressStart);
-        o.set("C", h.C);
-        o.set("C_ci95", Json::array({Json(h.cLo), Json(h.cHi)}));
-        o.set("t0_s", h.t0);
-        o.set("t0_ci95", Json::array({Json(h.t0Lo), Json(h.t0Hi)}));
-        o.set("rmse_Pa", h.rmse);
+        o.set("stress_start_Pa", finiteOrNull(h.stressStart));
+        o.set("C", finiteOrNull(h.C));
+        o.set("C_ci95", Json::array({finiteOrNull(h.cLo), finiteOrNull(h.cHi)}));
+        o.set("t0_s", finiteOrNull(h.t0));
+        o.set("t0_ci95", Json::array({finiteOrNull(h.t0Lo), finiteOrNull(h.t0Hi)}));
+        o.set("rmse_Pa", finiteOrNull(h.rmse));
         a.push(o);
     }
     Json j = Json::object();
     j.set("method", "thesis Eq. 4.3 fitted to each hold separately (sigma_h, C, t0 free; raw recorded stress)");
     j.set("holds", a);
-    j.set("mean_C", s.holds.empty() ? Json() : Json(s.meanC));
+    j.set("mean_C", s.holds.empty() ? Json() : finiteOrNull(s.meanC));
     const bool trend = std::isfinite(s.beta) && std::isfinite(s.betaSe);
     j.set("C_stress_exponent", trend ? Json(s.beta) : Json());
     j.set("C_stress_exponent_se", trend ? Json(s.betaSe) : Json());
