@@ -2,25 +2,39 @@
 # Thesis chapter 2 (frictionless, N = 9261, preset thesis-ch2): ISO cycle, UNI cycle from v0, D2/D3 at
 # several v_i from the ISO unloading branch; Table 2.2-style fits and the comparison of Sec. 2.5-2.7.
 # Usage: chapter2.sh BIN_DIR SOURCE_DIR [THREADS]      (days of CPU time at full scale)
+# Environment: D2_RATE (strain-rate amplitude of the z axis, 1/s; default 5.27, the thesis' slow rate),
+#   D2_EPS (deviatoric strain to reach, default 0.3), MODES ("D2 D3"), VS (v_i list, three decimals as
+#   in the restart names), SKIP_RUNS=1 (analyse the files already in ch2/).
 # Checks (exit 1 if one fails): C* fits (C0 = 6) within v_c +-0.004, alpha +-0.05, C1 +-10 % of
 # Table 2.2 for ISO and UNI unloading; v_c(ISO) > v_c(UNI) > v_c(D2); p0 within 10 %.
+# v_c(D2): Eq. 2.11 through the steady-state C* of the D2 runs (pdpm-fit steady, eps_dev >= 0.08),
+# with C1 and alpha free when there are at least four runs, else fixed at the ISO fit's values.
 set -euo pipefail
 bin="$1"; src="$2"; threads="${3:-2}"
 ref="$src/../shared/data/thesis/table_2_2_frictionless_fits.csv"
+rate="${D2_RATE:-5.27}"; epsmax="${D2_EPS:-0.3}"; modes="${MODES:-D2 D3}"; vs="${VS:-0.680 0.700 0.720 0.750 0.780}"
 common=(--preset thesis-ch2 --threads "$threads" --quiet --vtk 0)
-"$bin/IsotropicCompression" "${common[@]}" --output ch2 --name ISO --save_fractions 0.68,0.70,0.72,0.75,0.78
-"$bin/UniaxialCyclic" "${common[@]}" --output ch2 --name UNI
-for v in 0.68 0.70 0.72 0.75 0.78; do
-  for m in D2 D3; do
-    "$bin/DeviatoricD2" "${common[@]}" --output ch2 --name "${m}_$v" --mode "$m" --rate 5.27 --eps_dev_max 0.3 \
-      --start "ch2/ISO.unload_$v.restart"
+if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
+  "$bin/IsotropicCompression" "${common[@]}" --output ch2 --name ISO --save_fractions "$(echo $vs | tr ' ' ,)"
+  "$bin/UniaxialCyclic" "${common[@]}" --output ch2 --name UNI
+  for v in $vs; do
+    for m in $modes; do
+      "$bin/DeviatoricD2" "${common[@]}" --output ch2 --name "${m}_$v" --mode "$m" --rate "$rate" --eps_dev_max "$epsmax" \
+        --start "ch2/ISO.unload_$v.restart"
+    done
   done
-done
+fi
 "$bin/pdpm-fit" table ch2/ISO.macro.csv ch2/UNI.macro.csv | tee ch2/table_2_2_measured.txt
-for v in 0.68 0.70 0.72 0.75 0.78; do "$bin/pdpm-fit" cstar "ch2/D2_$v.macro.csv" --branch test; done > ch2/d2_cstar.txt || true
-"$bin/pdpm-fit" model --uni ch2/UNI.macro.csv ch2/D2_*.macro.csv | tee ch2/table_2_3_measured.txt
+d2=(ch2/D2_*.macro.csv)
+shape=()
+if (( ${#d2[@]} < 4 )); then
+  read -r c1 al < <(awk 'NR == 2 { print $2, $3 }' ch2/table_2_2_measured.txt)
+  shape=(--c1 "$c1" --alpha "$al")
+fi
+"$bin/pdpm-fit" steady "${d2[@]}" "${shape[@]}" | tee ch2/d2_steady.txt
+"$bin/pdpm-fit" model --uni ch2/UNI.macro.csv "${d2[@]}" | tee ch2/table_2_3_measured.txt || true
 if [[ ! -f "$ref" ]]; then echo "chapter2.sh: reference $ref absent: comparison skipped"; exit 0; fi
-python3 - "$ref" ch2/table_2_2_measured.txt <<'PY'
+python3 - "$ref" ch2/table_2_2_measured.txt ch2/d2_steady.txt <<'PY'
 import sys, csv
 ref = {r['mode']: r for r in csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith('#'))}
 rows = [l.split() for l in open(sys.argv[2]).read().splitlines()[1:]]
@@ -37,5 +51,11 @@ for m in ('ISO', 'UNI'):
         print(f"{m:5} {q:8} {tv:9.4f} {mv:9.4f} {str(good):>5}")
 good = meas['ISO']['vc'] > meas['UNI']['vc']
 print("ordering v_c(ISO) > v_c(UNI):", good); ok &= good
+vd = [float(l.split()[2]) for l in open(sys.argv[3]) if l.strip().startswith('v_c')]
+if vd:
+    good = meas['UNI']['vc'] > vd[0]
+    print(f"v_c(D2) {vd[0]:.4f} (thesis {float(ref['D2']['v_c_Cstar']):.4f}); ordering v_c(UNI) > v_c(D2):", good); ok &= good
+else:
+    print("v_c(D2): no fit (see ch2/d2_steady.txt)"); ok = False
 sys.exit(0 if ok else 1)
 PY

@@ -4,6 +4,9 @@
 //   pdpm-fit table FILE... [--branch B]                 Table 2.2-style table, one row per file
 //   pdpm-fit model --uni FILE D2FILE... [--vc X]        Sec. 2.7: calibrate on D2/D3 runs, predict UNI
 //   pdpm-fit plot --out DIR FILE...                     PNG figures through gnuplot (test rows, tau >= 0)
+//   pdpm-fit steady FILE... [--eps_min E] [--c1 X] [--alpha Y]
+//                                                       steady state of deviatoric runs (rows with eps_dev >= E):
+//                                                       one row per run, and Eq. 2.11 through the runs' mean C*
 // B: auto (default: unloading if the run has it, else the whole test), loading, unloading, test.
 #include <cmath>
 #include <cstdio>
@@ -23,14 +26,14 @@ using namespace pdpm;
 namespace {
 struct Args {
     std::string command, branch = "auto", out = ".", uni;
-    double vc = 0.6653, c0 = 6;
+    double vc = 0.6653, c0 = 6, epsMin = 0.08, c1 = 0, alpha = 0;
     bool vcGiven = false;
     std::vector<std::string> files;
 };
 
 Args parse(int argc, char** argv) {
     Args a;
-    if (argc < 2) inputError("usage: pdpm-fit cstar|rattlers|pressure|sdev|fdev|table|model|plot FILE... (see --help)");
+    if (argc < 2) inputError("usage: pdpm-fit cstar|rattlers|pressure|sdev|fdev|table|model|plot|steady FILE... (see --help)");
     a.command = argv[1];
     for (int i = 2; i < argc; ++i) {
         const std::string s = argv[i];
@@ -51,6 +54,14 @@ Args parse(int argc, char** argv) {
             a.vcGiven = true;
             if (!(a.vc > 0 && a.vc < 1)) inputError("--vc: must be in (0, 1)");
         } else if (s == "--c0") number(a.c0);
+        else if (s == "--eps_min") number(a.epsMin);
+        else if (s == "--c1") {
+            number(a.c1);
+            if (!(a.c1 > 0)) inputError("--c1: must be > 0");
+        } else if (s == "--alpha") {
+            number(a.alpha);
+            if (!(a.alpha > 0)) inputError("--alpha: must be > 0");
+        }
         else if (s == "--out") a.out = value();
         else if (s == "--uni") a.uni = value();
         else if (s.rfind("--", 0) == 0) inputError("unknown option " + s);
@@ -137,6 +148,48 @@ int plot(const Args& a) {
                 a.out.c_str());
     return 0;
 }
+// Steady state of deviatoric (D2/D3) runs: mean of each quantity over the test rows with
+// eps_dev >= epsMin, one row per run; then Eq. 2.11 (C0 fixed) through the runs' (v, C*) points,
+// with C1 and alpha fixed when given (a few runs cannot fix three parameters).
+int steady(const Args& a) {
+    std::vector<double> v, cs;
+    std::printf("%-28s %5s %8s %8s %8s %9s %8s %8s %10s\n", "run", "rows", "v", "C*", "phi_r", "p_nd", "s_dev", "F_dev",
+                "Ek/Ep");
+    for (const auto& f : a.files) {
+        const CsvTable t = readCsv(f);
+        const auto all = selectRows(t, BranchSelect::Test);
+        const auto eps = column(t, all, "eps_dev");
+        std::vector<std::vector<double>> rows;
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (eps[i] >= a.epsMin) rows.push_back(all[i]);
+        if (rows.size() < 3) inputError(f + ": fewer than 3 test rows with eps_dev >= " + std::to_string(a.epsMin));
+        auto mean = [&](const char* name) {
+            double m = 0;
+            for (double x : column(t, rows, name)) m += x;
+            return m / double(rows.size());
+        };
+        v.push_back(mean("volume_fraction"));
+        cs.push_back(mean("C_star"));
+        std::printf("%-28s %5zu %8.4f %8.4f %8.4f %9.5f %8.4f %8.4f %10.3g\n",
+                    std::filesystem::path(f).filename().string().c_str(), rows.size(), v.back(), cs.back(), mean("phi_r"),
+                    mean("p_nd"), mean("s_dev"), mean("F_dev"), mean("Ek_over_Ep"));
+    }
+    const bool fixC1 = a.c1 > 0, fixAlpha = a.alpha > 0;
+    const std::size_t nFree = 1 + !fixC1 + !fixAlpha;
+    if (v.size() <= nFree) {
+        std::printf("Eq. 2.11 through the steady states: %zu runs are too few for %zu free parameters "
+                    "(give --c1 and/or --alpha)\n", v.size(), nFree);
+        return 0;
+    }
+    double vmin = 1;
+    for (double x : v) vmin = std::min(vmin, x);
+    const FitResult r = levenbergMarquardt(
+        cs, [&](std::size_t i, const std::vector<double>& p) { return cstarModel(v[i], p[0], p[1], p[2], p[3]); },
+        {"C0", "C1", "alpha", "v_c"}, {a.c0, fixC1 ? a.c1 : 8.0, fixAlpha ? a.alpha : 0.6, 0.98 * vmin},
+        {true, fixC1, fixAlpha, false});
+    print("Eq. 2.11 C*(v) through the steady states", r);
+    return 0;
+}
 } // namespace
 
 int main(int argc, char** argv) {
@@ -147,12 +200,14 @@ int main(int argc, char** argv) {
                          "  pdpm-fit table FILE... [--branch B]\n"
                          "  pdpm-fit model --uni FILE D2FILE... [--vc X]\n"
                          "  pdpm-fit plot --out DIR FILE...\n"
+                         "  pdpm-fit steady FILE... [--eps_min E] [--c1 X] [--alpha Y]   deviatoric steady state, Eq. 2.11 through it\n"
                          "B: auto (default), loading, unloading, test.\n";
             return 0;
         }
         const Args a = parse(argc, argv);
         const BranchSelect b = branchOf(a.branch);
         if (a.command == "plot") return plot(a);
+        if (a.command == "steady") return steady(a);
         if (a.command == "table") {
             std::printf("%-28s %8s %8s %8s %8s %8s %8s %9s %8s %8s\n", "run", "C1", "alpha", "v_c", "phi_c", "phi_v",
                         "p0", "gamma_p", "v_c(p)", "C*max");
