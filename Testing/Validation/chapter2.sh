@@ -8,11 +8,14 @@
 # Checks (exit 1 if one fails): C* fits (C0 = 6) within v_c +-0.004, alpha +-0.05, C1 +-10 % of
 # Table 2.2 for ISO and UNI unloading; v_c(ISO) > v_c(UNI) > v_c(D2); p0 within 10 %.
 # v_c(D2): Eq. 2.11 through the steady-state C* of the D2 runs (pdpm-fit steady, eps_dev >= 0.08),
-# with C1 and alpha free when there are at least four runs, else fixed at the ISO fit's values.
+# with C1 and alpha free when there are at least four run files, else fixed at the ISO fit's values
+# (a run that never reached the steady state is skipped by pdpm-fit with a warning).
 set -euo pipefail
 bin="$1"; src="$2"; threads="${3:-2}"
 ref="$src/../shared/data/thesis/table_2_2_frictionless_fits.csv"
-rate="${D2_RATE:-5.27}"; epsmax="${D2_EPS:-0.3}"; modes="${MODES:-D2 D3}"; vs="${VS:-0.680 0.700 0.720 0.750 0.780}"
+rate="${D2_RATE:-5.27}"; epsmax="${D2_EPS:-0.3}"; modes="${MODES:-D2 D3}"
+vs=$(for v in ${VS:-0.68 0.70 0.72 0.75 0.78}; do printf '%.3f ' "$v"; done)   # restart names carry three decimals
+epsmin=$(python3 -c "print(min(0.08, 0.5 * $epsmax))")                       # steady state: second half at least
 common=(--preset thesis-ch2 --threads "$threads" --quiet --vtk 0)
 if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
   "$bin/IsotropicCompression" "${common[@]}" --output ch2 --name ISO --save_fractions "$(echo $vs | tr ' ' ,)"
@@ -25,13 +28,15 @@ if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
   done
 fi
 "$bin/pdpm-fit" table ch2/ISO.macro.csv ch2/UNI.macro.csv | tee ch2/table_2_2_measured.txt
+shopt -s nullglob
 d2=(ch2/D2_*.macro.csv)
+(( ${#d2[@]} > 0 )) || { echo "chapter2.sh: no ch2/D2_*.macro.csv to analyse"; exit 1; }
 shape=()
 if (( ${#d2[@]} < 4 )); then
   read -r c1 al < <(awk 'NR == 2 { print $2, $3 }' ch2/table_2_2_measured.txt)
   shape=(--c1 "$c1" --alpha "$al")
 fi
-"$bin/pdpm-fit" steady "${d2[@]}" "${shape[@]}" | tee ch2/d2_steady.txt
+"$bin/pdpm-fit" steady "${d2[@]}" --eps_min "$epsmin" "${shape[@]}" | tee ch2/d2_steady.txt
 "$bin/pdpm-fit" model --uni ch2/UNI.macro.csv "${d2[@]}" | tee ch2/table_2_3_measured.txt || true
 if [[ ! -f "$ref" ]]; then echo "chapter2.sh: reference $ref absent: comparison skipped"; exit 0; fi
 python3 - "$ref" ch2/table_2_2_measured.txt ch2/d2_steady.txt <<'PY'

@@ -38,7 +38,8 @@ sys.exit(0 if ok else 1)
 PY
 done
 # Two devices, one material: cocoa in the lambdameter (Table 4.5) and in the FT4 (Table 4.4), explained
-# together; check: joint verdict missing_physics naming contact_relaxation; prints every transfer.
+# together; check: joint verdict missing_physics naming contact_relaxation, FT4 per-hold C within 25 %
+# of Table 4.4 hold by hold; prints every transfer.
 "$BIN/pdpm-explain-data" thesis --material cocoa --device ft4 --data "$SHARED/data" --output "$OUT/cocoa-ft4-input" >/dev/null
 "$BIN/pdpm-explain" --recording "$OUT/cocoa-input/recording.csv" "$OUT/cocoa-ft4-input/recording.csv" \
   --protocol "$OUT/cocoa-input/protocol.json" "$OUT/cocoa-ft4-input/protocol.json" --output "$OUT/cocoa-two-devices" --dem off >/dev/null
@@ -53,11 +54,13 @@ for x in r['heldout_recordings']:
     print(f"  {'+'.join(x['mechanisms'])} from {x['calibrated_on']:.0f} on {x['heldout_recording']:.0f}: RMSE {x['heldout_rmse_baseline']:.1f} -> {x['heldout_rmse_augmented']:.1f} Pa ({-100 * x['gain']:+.1f} %)")
 print(f"  thesis FT4 mean C {t['C_mean']:.4f}")
 ft4 = json.load(open(sys.argv[1].replace('report.json', 'recording_2/report.json')))
+per = []
 for m in ft4['mechanisms']:
     if m['name'] == 'contact_relaxation':
         per = [h['C'] for h in m['per_hold']['holds']]
         print(f"  FT4 per-hold C {', '.join(f'{c:.4f}' for c in per)} vs table {', '.join(f'{c:.4f}' for c in t['C_per_hold'])}")
 ok = r['verdict'] == 'missing_physics' and any(m['name'] == 'contact_relaxation' for m in r['mechanisms'])
+ok = ok and len(per) == len(t['C_per_hold']) and all(abs(a - b) <= 0.25 * b for a, b in zip(per, t['C_per_hold']))
 sys.exit(0 if ok else 1)
 PY
 exit $fail

@@ -666,11 +666,16 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     round = cd.round;
                     own = cd.dBIC;
                 }
-            double z = std::exp(-0.5 * std::min(own, 1400.0));  // "nothing more", relative to c
+            // alternatives: the same round's candidates that are not in the final model, except those
+            // the selection itself rejected on held-out data ("nothing more" is the drop-one factor)
+            double z = 0;
             for (const auto& cd : R.candidates)
-                if (cd.round == round && cd.testable && (cd.comp == c || !on[cd.comp]))
+                if (cd.round == round && cd.testable && std::isfinite(cd.dBIC) &&
+                    (cd.comp == c || (!on[cd.comp] && cd.note.rfind("rejected: held-out", 0) != 0)))
                     z += std::exp(0.5 * std::clamp(cd.dBIC - own, -1400.0, 1400.0));
-            inclusion[std::size_t(c)] = (1 / z) / (1 + std::exp(-0.5 * std::clamp(dropBic, -1400.0, 1400.0)));
+            const double p = (z > 0 && std::isfinite(own) ? 1 / z : 0.0) /
+                             (1 + std::exp(-0.5 * std::clamp(std::isfinite(dropBic) ? dropBic : -1400.0, -1400.0, 1400.0)));
+            inclusion[std::size_t(c)] = std::isfinite(p) ? p : 0.0;
         }
     }
 
@@ -741,9 +746,12 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (int k : M.paramsOf(c)) {
             const ParDef& d = M.defs()[k];
             const double v = cur.p[k];
-            auto [lo, hi] = interval(d, v, cur.se[k]);
+            auto clampToBounds = [&](std::pair<double, double> iv) {
+                return std::pair<double, double>(std::max(iv.first, d.lo), std::min(iv.second, d.hi));
+            };
+            auto [lo, hi] = clampToBounds(interval(d, v, cur.se[k]));
             for (std::size_t a = 0; a < withNuisance.size(); ++a) {
-                const auto [l2, h2] = interval(d, withNuisance[a].p[k], withNuisance[a].se[k]);
+                const auto [l2, h2] = clampToBounds(interval(d, withNuisance[a].p[k], withNuisance[a].se[k]));
                 if (l2 < lo - 1e-12 * std::fabs(lo) || h2 > hi + 1e-12 * std::fabs(hi)) {
                     const std::string nn = compName(leftOut[a]);
                     if (std::find(m.widenedBy.begin(), m.widenedBy.end(), nn) == m.widenedBy.end()) m.widenedBy.push_back(nn);
@@ -989,7 +997,8 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     j.set("candidates", cands);
     Json dem = Json::object();
     dem.set("status", "not_run");
-    dem.set("reason", "the DEM re-run (OedometerRelaxation driver with the matching contact ingredient) is not wired yet");
+    dem.set("reason", "the DEM re-run is done by the pdpm-explain command, on the first recording only; this report was "
+                      "written without it");
     dem.set("heldout_rmse_baseline", Json());
     dem.set("heldout_rmse_augmented", Json());
     j.set("dem_confirmation", dem);

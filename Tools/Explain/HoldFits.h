@@ -28,8 +28,9 @@ struct HoldFitSummary {
     double meanC = 0;
 };
 
-/// Fits every hold phase with at least `minSamples` samples. `sigma`, `rho`: noise sd and lag-1
-/// autocorrelation (they widen the 95 % intervals by sqrt((1 + rho)/(1 - rho))).
+/// Fits every hold phase with at least `minSamples` samples. `rho`: lag-1 autocorrelation of the
+/// noise's AR(1) part; the 95 % intervals (Jacobian, residual variance of the hold) are widened by
+/// sqrt((1 + rho)/(1 - rho)). With a given instrument noise level the explainer passes rho = 0.
 HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples = 20);
 
 /// {"holds": [{t_start_s, t_end_s, stress_start_Pa, C, C_ci95, t0_s, t0_ci95, rmse_Pa, samples}],

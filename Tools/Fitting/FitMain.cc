@@ -162,7 +162,10 @@ int steady(const Args& a) {
         std::vector<std::vector<double>> rows;
         for (std::size_t i = 0; i < all.size(); ++i)
             if (eps[i] >= a.epsMin) rows.push_back(all[i]);
-        if (rows.size() < 3) inputError(f + ": fewer than 3 test rows with eps_dev >= " + std::to_string(a.epsMin));
+        if (rows.size() < 3) {  // an unfinished run, or one that never reached the steady state: skipped
+            std::fprintf(stderr, "pdpm-fit steady: %s skipped: fewer than 3 test rows with eps_dev >= %g\n", f.c_str(), a.epsMin);
+            continue;
+        }
         auto mean = [&](const char* name) {
             double m = 0;
             for (double x : column(t, rows, name)) m += x;
