@@ -64,18 +64,25 @@ int runExplainCommand(const std::vector<std::string>& args) {
             several = explainSeveral(recs, protos, opt);
             writeSeveralReport(output, several, recs, protos, opt);
         }
-        const ExplainResult& r = recs.size() == 1 ? single : several.per[0];
-        // Step 6: the DEM re-run (on the first recording); its block replaces the placeholder in report.json.
-        const DemResult d = confirmWithDem(r, recs[0], protocols[0], dem, output + "/dem");
+        // Step 6: the DEM re-run, on the first recording whose own explanation accepted the mechanism the
+        // DEM step supports (contact_relaxation; else recording 1); its block replaces the placeholder.
+        std::size_t demRec = 0;
+        if (recs.size() > 1)
+            for (std::size_t k = recs.size(); k-- > 0;)
+                for (const auto& m : several.per[k].mechanisms)
+                    if (m.comp == kRelaxation) demRec = k;
+        const ExplainResult& r = recs.size() == 1 ? single : several.per[demRec];
+        const DemResult d = confirmWithDem(r, recs[demRec], protocols[protocols.size() == 1 ? 0 : demRec], dem, output + "/dem");
         for (const std::string& dir : recs.size() == 1 ? std::vector<std::string>{output}
-                                                        : std::vector<std::string>{output, output + "/recording_1"}) {
+                                                        : std::vector<std::string>{output, output + "/recording_" + std::to_string(demRec + 1)}) {
             Json report = readJsonFile(dir + "/report.json");
             report.set("dem_confirmation", demJson(d));
             writeJsonFile(dir + "/report.json", report);
             writeWholeFile(dir + "/report.md", readWholeFile(dir + "/report.md") + demMarkdown(d));
         }
         if (d.status == "done")
-            std::cout << "DEM confirmation (" << d.mechanism << "): held-out RMSE " << d.heldoutBaseline << " Pa -> "
+            std::cout << "DEM confirmation (" << d.mechanism << (recs.size() > 1 ? ", recording " + std::to_string(demRec + 1) : "")
+                      << "): held-out RMSE " << d.heldoutBaseline << " Pa -> "
                       << d.heldoutAugmented << " Pa (" << d.runs.size() << " DEM runs, " << d.wallSeconds << " s)\n";
         else
             std::cout << "DEM confirmation: " << d.status << (d.reason.empty() ? "" : " (" + d.reason + ")") << "\n";
