@@ -152,7 +152,7 @@ int plot(const Args& a) {
 // eps_dev >= epsMin, one row per run; then Eq. 2.11 (C0 fixed) through the runs' (v, C*) points,
 // with C1 and alpha fixed when given (a few runs cannot fix three parameters).
 int steady(const Args& a) {
-    std::vector<double> v, cs;
+    std::vector<double> v, cs, phi, cm, pnd;
     std::printf("%-28s %5s %8s %8s %8s %9s %8s %8s %10s\n", "run", "rows", "v", "C*", "phi_r", "p_nd", "s_dev", "F_dev",
                 "Ek/Ep");
     for (const auto& f : a.files) {
@@ -173,6 +173,9 @@ int steady(const Args& a) {
         };
         v.push_back(mean("volume_fraction"));
         cs.push_back(mean("C_star"));
+        phi.push_back(mean("phi_r"));
+        cm.push_back(mean("C_m"));
+        pnd.push_back(mean("p_nd"));
         std::printf("%-28s %5zu %8.4f %8.4f %8.4f %9.5f %8.4f %8.4f %10.3g\n",
                     std::filesystem::path(f).filename().string().c_str(), rows.size(), v.back(), cs.back(), mean("phi_r"),
                     mean("p_nd"), mean("s_dev"), mean("F_dev"), mean("Ek_over_Ep"));
@@ -191,6 +194,8 @@ int steady(const Args& a) {
         {"C0", "C1", "alpha", "v_c"}, {a.c0, fixC1 ? a.c1 : 8.0, fixAlpha ? a.alpha : 0.6, 0.98 * vmin},
         {true, fixC1, fixAlpha, false});
     print("Eq. 2.11 C*(v) through the steady states", r);
+    if (v.size() >= 3) print("Eq. 2.12 phi_r(v) through the steady states, v_c from Eq. 2.11", fitRattlers(v, phi, r.get("v_c")));
+    if (v.size() >= 4) print("Eq. 2.14 p(v) through the steady states", fitPressure(v, cm, pnd));
     return 0;
 }
 } // namespace
