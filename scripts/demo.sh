@@ -43,6 +43,7 @@ if [[ -f "$shared/data/thesis/table_4_5_relaxation_materials.csv" ]]; then
   echo "pdpm-explain on the thesis cocoa recording (report: $out/explain-cocoa/report.md):"
   grep -m1 '"verdict"' "$out/explain-cocoa/report.json" | sed 's/^ */  /'
   grep -A3 -m1 -i "^## *verdict\|^\*\*verdict" "$out/explain-cocoa/report.md" | sed 's/^/  /' || true
+  grep -m1 "^Mean C over the holds" "$out/explain-cocoa/report.md" | sed 's/^/  /' || true
   grep -m1 "^DEM confirmation" "$out/explain-cocoa.log" | sed 's/^/  /' || true
 else
   echo "demo.sh: ../shared/data/thesis not found, skipping pdpm-explain" >&2

@@ -56,6 +56,14 @@ for m in ('ISO', 'UNI'):
         print(f"{m:5} {q:8} {tv:9.4f} {mv:9.4f} {str(good):>5}")
 good = meas['ISO']['vc'] > meas['UNI']['vc']
 print("ordering v_c(ISO) > v_c(UNI):", good); ok &= good
+# the same statement at equal v: C*(ISO fit) < C*(UNI fit) < C*(D2 steady state) (thesis Fig. 2.6 inset)
+fits = {('ISO' if r[0].startswith('ISO') else 'UNI'): [float(x) for x in r[1:4]] for r in rows}
+cstar = lambda f, v: 6 + f[0] * max(v / f[2] - 1, 0) ** f[1]
+for l in open(sys.argv[3]):
+    w = l.split()
+    if len(w) == 9 and w[0].endswith('.csv'):
+        v, c = float(w[2]), float(w[3])
+        print(f"v = {v:.3f}: C* ISO {cstar(fits['ISO'], v):.3f}, UNI {cstar(fits['UNI'], v):.3f}, D2 steady {c:.3f}")
 vd = [float(l.split()[2]) for l in open(sys.argv[3]) if l.strip().startswith('v_c')]
 if vd:
     good = meas['UNI']['vc'] > vd[0]
