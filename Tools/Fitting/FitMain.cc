@@ -180,6 +180,7 @@ int steady(const Args& a) {
                     std::filesystem::path(f).filename().string().c_str(), rows.size(), v.back(), cs.back(), mean("phi_r"),
                     mean("p_nd"), mean("s_dev"), mean("F_dev"), mean("Ek_over_Ep"));
     }
+    if (v.empty()) inputError("steady: no run has 3 test rows with eps_dev >= " + std::to_string(a.epsMin));
     const bool fixC1 = a.c1 > 0, fixAlpha = a.alpha > 0;
     const std::size_t nFree = 1 + !fixC1 + !fixAlpha;
     if (v.size() <= nFree) {
