@@ -648,8 +648,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     }
 
     // inclusion probability of each accepted mechanism: its BIC weight among the alternatives of the
-    // round in which it was added ("nothing more" and the candidates that are not in the final model),
-    // times the BIC probability that the final model needs it at all (the final model against the
+    // round in which it was added (see below which candidates count), times the BIC probability that the final model needs it at all (the final model against the
     // same model without it, even prior odds)
     std::vector<double> inclusion(kNumComp, 0.0);
     {
@@ -997,8 +996,8 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     j.set("candidates", cands);
     Json dem = Json::object();
     dem.set("status", "not_run");
-    dem.set("reason", "the DEM re-run is done by the pdpm-explain command, on the first recording only; this report was "
-                      "written without it");
+    dem.set("reason", "the DEM re-run is done by the pdpm-explain command, on one recording (the first that accepted "
+                      "contact_relaxation); this report was written without it");
     dem.set("heldout_rmse_baseline", Json());
     dem.set("heldout_rmse_augmented", Json());
     j.set("dem_confirmation", dem);
