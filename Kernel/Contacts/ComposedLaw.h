@@ -6,9 +6,11 @@
 #include <cstdint>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "Boundaries/MinimumImage.h"
 #include "Contacts/ContactLaw.h"
+#include "Contacts/LinearBatch.h"
 #include "Contacts/TangentialLaws.h"
 #include "Particles/ParticleData.h"
 #include "Walls/Wall.h"
@@ -22,6 +24,10 @@ public:
     static constexpr bool kTangential = T::H > 0 || R::H > 0 || O::H > 0;
     static constexpr bool kNeedsMass = N::kNeedsMass || T::kNeedsMass;
     static constexpr bool kNeedsRadius = N::kNeedsRadius || T::kNeedsRadius || R::H > 0 || O::H > 0;
+    /// Laws with a batched (SIMD) pair loop: linear normal force, with or without Coulomb friction.
+    static constexpr bool kBatch = std::is_same_v<N, NormalLinear> &&
+                                   (std::is_same_v<T, TangentialCoulomb> || std::is_same_v<T, NoPart>) &&
+                                   std::is_same_v<R, NoPart> && std::is_same_v<O, NoPart>;
 
     explicit ComposedLaw(std::string name) : name_(std::move(name)) {}
     std::string name() const override { return name_; }
@@ -64,6 +70,10 @@ public:
                                            Vec3* __restrict f, Vec3* __restrict t, double* __restrict hist,
                                            const MinimumImage img, const SpeciesTable& spt, double dt, double time,
                                            std::vector<ContactRecord>* rec, double& energy) {
+        if constexpr (kBatch) {
+            batchRange<kPeriodic>(k0, k1, pi, pj, x, v, w, r, sp, f, t, hist, img, spt, dt, rec, energy);
+            return;
+        }
         constexpr std::size_t kChunk = 256;
         uint32_t hit[kChunk];
         double sdx[kChunk], sdy[kChunk], sdz[kChunk], sd2[kChunk];
@@ -111,6 +121,127 @@ public:
                 }
             }
             screen = 8 * nHit < 7 * (c1 - c0);
+        }
+    }
+
+    /// pairRange for the laws of LinearBatch: per chunk, a branch-free screening pass collects the
+    /// touching pairs (and resets the history of pairs that separated), a gather pass copies their
+    /// data into the batch, the batch is evaluated in SIMD lanes, and a scatter pass adds the forces
+    /// and torques to the particles in pair order (the same order for any thread count).
+    template <bool kPeriodic>
+    static void batchRange(std::size_t k0, std::size_t k1, const uint32_t* __restrict pi,
+                           const uint32_t* __restrict pj, const Vec3* __restrict x, const Vec3* __restrict v,
+                           const Vec3* __restrict w, const double* __restrict r, const int32_t* __restrict sp,
+                           Vec3* __restrict f, Vec3* __restrict t, double* __restrict hist, const MinimumImage img,
+                           const SpeciesTable& spt, double dt, std::vector<ContactRecord>* rec, double& energy) {
+        constexpr bool kFriction = std::is_same_v<T, TangentialCoulomb>;
+        constexpr std::size_t kChunk = LinearBatch::kChunk;
+        LinearBatch b;  // about 20 kB on the stack, no initialisation needed
+        uint32_t hit[kChunk];
+        const bool oneSpecies = spt.size() == 1;
+        if (oneSpecies) {  // the parameters are the same in every lane
+            const ContactParameters& p = spt.pair(0, 0);
+            for (std::size_t q = 0; q < LinearBatch::kMax; ++q) {
+                b.k[q] = p.k;
+                b.gamma[q] = p.gamma;
+                if constexpr (kFriction) {
+                    b.kt[q] = p.kt;
+                    b.gammaT[q] = p.gammaT;
+                    b.muS[q] = p.muS;
+                    b.muD[q] = p.muD;
+                }
+            }
+        }
+        for (std::size_t c0 = k0; c0 < k1; c0 += kChunk) {
+            const std::size_t c1 = std::min(k1, c0 + kChunk);
+            std::size_t n = 0;
+            for (std::size_t k = c0; k < c1; ++k) {
+                double dx, dy, dz, d2;
+                const bool touching = separation<kPeriodic>(pi[k], pj[k], x, r, img, dx, dy, dz, d2);
+                hit[n] = static_cast<uint32_t>(k - c0);
+                b.dx[n] = dx;
+                b.dy[n] = dy;
+                b.dz[n] = dz;
+                b.d2[n] = d2;
+                n += touching ? 1 : 0;
+                if constexpr (H > 0) {
+                    unsigned reset = dirtyHistory(hist + k * H) & static_cast<unsigned>(!touching);
+                    asm("" : "+r"(reset));
+                    if (reset != 0) [[unlikely]]
+                        for (int q = 0; q < H; ++q) hist[k * H + q] = 0.0;
+                }
+            }
+            if (n == 0) continue;
+            for (std::size_t q = 0; q < n; ++q) {
+                const std::size_t k = c0 + hit[q];
+                const uint32_t i = pi[k], j = pj[k];
+                b.ri[q] = r[i];
+                b.rj[q] = r[j];
+                b.vx[q] = v[i].x - v[j].x;
+                b.vy[q] = v[i].y - v[j].y;
+                b.vz[q] = v[i].z - v[j].z;
+                if constexpr (kFriction) {
+                    b.wix[q] = w[i].x;
+                    b.wiy[q] = w[i].y;
+                    b.wiz[q] = w[i].z;
+                    b.wjx[q] = w[j].x;
+                    b.wjy[q] = w[j].y;
+                    b.wjz[q] = w[j].z;
+                    const double* h = hist + k * H;
+                    b.h0[q] = h[0];
+                    b.h1[q] = h[1];
+                    b.h2[q] = h[2];
+                    b.h3[q] = h[3];
+                }
+                if (!oneSpecies) {
+                    const ContactParameters& p = spt.pair(sp[i], sp[j]);
+                    b.k[q] = p.k;
+                    b.gamma[q] = p.gamma;
+                    if constexpr (kFriction) {
+                        b.kt[q] = p.kt;
+                        b.gammaT[q] = p.gammaT;
+                        b.muS[q] = p.muS;
+                        b.muD[q] = p.muD;
+                    }
+                }
+            }
+            const std::size_t m = b.pad(n, kFriction, !oneSpecies);
+            b.template evaluate<kFriction>(m, dt);
+            for (std::size_t q = 0; q < n; ++q) {
+                const std::size_t k = c0 + hit[q];
+                const uint32_t i = pi[k], j = pj[k];
+                const Vec3 F{b.Fx[q], b.Fy[q], b.Fz[q]};
+                f[i] += F;
+                f[j] -= F;
+                if constexpr (kFriction) {
+                    t[i] += Vec3{b.tix[q], b.tiy[q], b.tiz[q]};
+                    t[j] += Vec3{b.tjx[q], b.tjy[q], b.tjz[q]};
+                    double* h = hist + k * H;
+                    h[0] = b.h0[q];
+                    h[1] = b.h1[q];
+                    h[2] = b.h2[q];
+                    h[3] = b.h3[q];
+                }
+                if (rec) [[unlikely]] {
+                    const Vec3 nrm{b.nx[q], b.ny[q], b.nz[q]};
+                    Vec3 ft;
+                    if constexpr (kFriction) ft = {b.ftx[q], b.fty[q], b.ftz[q]};
+                    energy += b.energy[q];
+                    ContactRecord cr;
+                    cr.i = static_cast<int>(i);
+                    cr.j = static_cast<int>(j);
+                    const double a = r[i] - 0.5 * b.overlap[q];
+                    cr.point = x[i] - a * nrm;
+                    cr.overlap = b.overlap[q];
+                    cr.n = nrm;
+                    cr.fn = b.fn[q];
+                    cr.ft = ft;
+                    cr.branch = {b.dx[q], b.dy[q], b.dz[q]};
+                    cr.sliding = kFriction && b.sliding[q] != 0;
+                    cr.energy = b.energy[q];
+                    rec->push_back(cr);
+                }
+            }
         }
     }
 

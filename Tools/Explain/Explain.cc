@@ -607,6 +607,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     }
                 }
             } else {
+                cd.rejectedHeldOut = true;
                 cd.note = "rejected: held-out error does not drop (" + num(cd.heldoutAug, 4) + " >= " + num(cd.heldoutBase, 4) + ")";
             }
         }
@@ -670,7 +671,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             double z = 0;
             for (const auto& cd : R.candidates)
                 if (cd.round == round && cd.testable && std::isfinite(cd.dBIC) &&
-                    (cd.comp == c || (!on[cd.comp] && cd.note.rfind("rejected: held-out", 0) != 0)))
+                    (cd.comp == c || (!on[cd.comp] && !cd.rejectedHeldOut)))
                     z += std::exp(0.5 * std::clamp(cd.dBIC - own, -1400.0, 1400.0));
             const double p = (z > 0 && std::isfinite(own) ? 1 / z : 0.0) /
                              (1 + std::exp(-0.5 * std::clamp(std::isfinite(dropBic) ? dropBic : -1400.0, -1400.0, 1400.0)));

@@ -41,6 +41,7 @@ struct Candidate {
     double minDetectable = 0;  ///< smallest detectable value of the primary parameter (linearised)
     bool testable = true;
     bool accepted = false;
+    bool rejectedHeldOut = false;  ///< better BIC, but the held-out error did not drop
     double heldoutBase = -1, heldoutAug = -1;
     std::string note;
     std::vector<double> p, se;
