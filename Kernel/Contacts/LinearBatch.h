@@ -22,7 +22,8 @@ namespace pdpm {
 struct LinearBatch {
     static constexpr std::size_t kChunk = 64;  ///< contacts per batch
     static constexpr std::size_t kPad = 8;     ///< batch length is padded to a multiple of this
-    static constexpr std::size_t kMax = kChunk + kPad;
+    static_assert(kChunk % kPad == 0, "a padded batch must fit into the lanes");
+    static constexpr std::size_t kMax = kChunk;  ///< lanes per array (sizeof(LinearBatch) = 22.5 kB)
 
     // ---- input per contact
     alignas(64) double dx[kMax], dy[kMax], dz[kMax], d2[kMax];  ///< x_i - x_j (minimum image), |.|^2
