@@ -141,19 +141,8 @@ public:
         LinearBatch b;  // 22.5 kB on the stack (OpenMP threads have MiB stacks); nothing to initialise
         uint32_t hit[kChunk];
         const bool oneSpecies = spt.size() == 1;
-        if (oneSpecies) {  // the parameters are the same in every lane
-            const ContactParameters& p = spt.pair(0, 0);
-            for (std::size_t q = 0; q < LinearBatch::kMax; ++q) {
-                b.k[q] = p.k;
-                b.gamma[q] = p.gamma;
-                if constexpr (kFriction) {
-                    b.kt[q] = p.kt;
-                    b.gammaT[q] = p.gammaT;
-                    b.muS[q] = p.muS;
-                    b.muD[q] = p.muD;
-                }
-            }
-        }
+        if (oneSpecies)  // the parameters are the same in every lane
+            for (std::size_t q = 0; q < LinearBatch::kMax; ++q) b.template setParameters<kFriction>(q, spt.pair(0, 0));
         for (std::size_t c0 = k0; c0 < k1; c0 += kChunk) {
             const std::size_t c1 = std::min(k1, c0 + kChunk);
             std::size_t n = 0;
@@ -195,17 +184,7 @@ public:
                     b.h2[q] = h[2];
                     b.h3[q] = h[3];
                 }
-                if (!oneSpecies) {
-                    const ContactParameters& p = spt.pair(sp[i], sp[j]);
-                    b.k[q] = p.k;
-                    b.gamma[q] = p.gamma;
-                    if constexpr (kFriction) {
-                        b.kt[q] = p.kt;
-                        b.gammaT[q] = p.gammaT;
-                        b.muS[q] = p.muS;
-                        b.muD[q] = p.muD;
-                    }
-                }
+                if (!oneSpecies) b.template setParameters<kFriction>(q, spt.pair(sp[i], sp[j]));
             }
             const std::size_t m = b.pad(n, kFriction, !oneSpecies);
             b.template evaluate<kFriction>(m, dt);

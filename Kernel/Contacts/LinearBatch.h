@@ -17,6 +17,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "Contacts/ContactParameters.h"
+
 namespace pdpm {
 
 struct LinearBatch {
@@ -41,6 +43,19 @@ struct LinearBatch {
     alignas(64) double tix[kMax], tiy[kMax], tiz[kMax];          ///< torque on i from ft
     alignas(64) double tjx[kMax], tjy[kMax], tjz[kMax];          ///< torque on j from ft
     alignas(64) double energy[kMax], sliding[kMax];
+
+    /// The law's parameters of lane q.
+    template <bool kFriction>
+    void setParameters(std::size_t q, const ContactParameters& p) {
+        k[q] = p.k;
+        gamma[q] = p.gamma;
+        if constexpr (kFriction) {
+            kt[q] = p.kt;
+            gammaT[q] = p.gammaT;
+            muS[q] = p.muS;
+            muD[q] = p.muD;
+        }
+    }
 
     /// Fill lanes [n, padded(n)) with a harmless contact (unit overlap, zero velocities and history;
     /// parameters too if `params`, else those in place are kept) and return padded(n).
