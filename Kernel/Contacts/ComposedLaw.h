@@ -84,25 +84,7 @@ public:
             const std::size_t c1 = std::min(k1, c0 + kChunk);
             std::size_t nHit = 0;
             if (screen) {
-                for (std::size_t k = c0; k < c1; ++k) {
-                    double dx, dy, dz, d2;
-                    const bool touching = separation<kPeriodic>(pi[k], pj[k], x, r, img, dx, dy, dz, d2);
-                    hit[nHit] = static_cast<uint32_t>(k - c0);
-                    sdx[nHit] = dx;
-                    sdy[nHit] = dy;
-                    sdz[nHit] = dz;
-                    sd2[nHit] = d2;
-                    nHit += touching ? 1 : 0;
-                    if constexpr (H > 0) {
-                        // One well-predicted branch on the combined flag: the empty asm makes the flag
-                        // opaque, so the compiler cannot split it into a branch on `dirty` (which would
-                        // mispredict like the contact test itself).
-                        unsigned reset = dirtyHistory(hist + k * H) & static_cast<unsigned>(!touching);
-                        asm("" : "+r"(reset));
-                        if (reset != 0) [[unlikely]]
-                            for (int q = 0; q < H; ++q) hist[k * H + q] = 0.0;
-                    }
-                }
+                nHit = screenChunk<kPeriodic>(c0, c1, pi, pj, x, r, img, hist, hit, sdx, sdy, sdz, sd2);
                 for (std::size_t q = 0; q < nHit; ++q) {
                     const std::size_t k = c0 + hit[q];
                     contact(k, pi[k], pj[k], sdx[q], sdy[q], sdz[q], sd2[q], x, v, w, r, invM, m, sp, f, t,
@@ -145,23 +127,7 @@ public:
             for (std::size_t q = 0; q < LinearBatch::kMax; ++q) b.template setParameters<kFriction>(q, spt.pair(0, 0));
         for (std::size_t c0 = k0; c0 < k1; c0 += kChunk) {
             const std::size_t c1 = std::min(k1, c0 + kChunk);
-            std::size_t n = 0;
-            for (std::size_t k = c0; k < c1; ++k) {
-                double dx, dy, dz, d2;
-                const bool touching = separation<kPeriodic>(pi[k], pj[k], x, r, img, dx, dy, dz, d2);
-                hit[n] = static_cast<uint32_t>(k - c0);
-                b.dx[n] = dx;
-                b.dy[n] = dy;
-                b.dz[n] = dz;
-                b.d2[n] = d2;
-                n += touching ? 1 : 0;
-                if constexpr (H > 0) {
-                    unsigned reset = dirtyHistory(hist + k * H) & static_cast<unsigned>(!touching);
-                    asm("" : "+r"(reset));
-                    if (reset != 0) [[unlikely]]
-                        for (int q = 0; q < H; ++q) hist[k * H + q] = 0.0;
-                }
-            }
+            const std::size_t n = screenChunk<kPeriodic>(c0, c1, pi, pj, x, r, img, hist, hit, b.dx, b.dy, b.dz, b.d2);
             if (n == 0) continue;
             for (std::size_t q = 0; q < n; ++q) {
                 const std::size_t k = c0 + hit[q];
@@ -224,6 +190,39 @@ public:
                 }
             }
         }
+    }
+
+    /// Screening pass over the listed pairs c0..c1 (at most one chunk): the offsets (from c0) of the
+    /// touching pairs go to hit[0..n), their separations and squared distances to sdx..sd2[0..n); the
+    /// history of a pair that no longer touches is reset. Branch-free except for the rare reset.
+    /// Returns n. Used by pairRange (screened chunks) and batchRange (every chunk).
+    template <bool kPeriodic>
+    [[gnu::always_inline]] static inline std::size_t
+    screenChunk(std::size_t c0, std::size_t c1, const uint32_t* __restrict pi, const uint32_t* __restrict pj,
+                const Vec3* __restrict x, const double* __restrict r, const MinimumImage& img,
+                double* __restrict hist, uint32_t* __restrict hit, double* __restrict sdx, double* __restrict sdy,
+                double* __restrict sdz, double* __restrict sd2) {
+        std::size_t n = 0;
+        for (std::size_t k = c0; k < c1; ++k) {
+            double dx, dy, dz, d2;
+            const bool touching = separation<kPeriodic>(pi[k], pj[k], x, r, img, dx, dy, dz, d2);
+            hit[n] = static_cast<uint32_t>(k - c0);
+            sdx[n] = dx;
+            sdy[n] = dy;
+            sdz[n] = dz;
+            sd2[n] = d2;
+            n += touching ? 1 : 0;
+            if constexpr (H > 0) {
+                // One well-predicted branch on the combined flag: the empty asm makes the flag
+                // opaque, so the compiler cannot split it into a branch on `dirty` (which would
+                // mispredict like the contact test itself).
+                unsigned reset = dirtyHistory(hist + k * H) & static_cast<unsigned>(!touching);
+                asm("" : "+r"(reset));
+                if (reset != 0) [[unlikely]]
+                    for (int q = 0; q < H; ++q) hist[k * H + q] = 0.0;
+            }
+        }
+        return n;
     }
 
     /// Separation x_i - x_j of a pair (minimum image if periodic) and its squared length; true if

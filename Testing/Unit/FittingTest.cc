@@ -7,6 +7,8 @@
 
 #include "Core/Error.h"
 #include "Fitting.h"
+#include "IO/AtomicFile.h"
+#include "TempDir.h"
 
 using namespace pdpm;
 
@@ -119,6 +121,34 @@ TEST(Fitting, AnisotropyModelCalibrationAndPrediction) {
     const auto ps = m.predictS(v, e, 0.01);
     for (std::size_t i = 0; i < v.size(); ++i) EXPECT_NEAR(ps[i], saturationModel(e[i], sm(v[i]), 0.01, bs(v[i])), 1e-6);
     EXPECT_THROW(calibrateAnisotropy({runs[0], runs[1]}, vc), InputError);
+    // below the lowest calibration run (0.68) the coefficients are held at their value there; above
+    // it Eq. 2.20 applies as fitted (the 0.79 point lies above the highest run, 0.78)
+    EXPECT_DOUBLE_EQ(m.vLo, 0.68);
+    const auto low = m.predictS({0.671, 0.79}, {0.05, 0.05}, 0.01);
+    EXPECT_NEAR(low[0], saturationModel(0.05, sm(0.68), 0.01, bs(0.68)), 1e-6);
+    EXPECT_NEAR(low[1], saturationModel(0.05, sm(0.79), 0.01, bs(0.79)), 1e-6);
+}
+
+TEST(Fitting, AnisotropyTableFile) {
+    const pdpm::testing::TempDir tmp;
+    const std::string f = tmp.str() + "/t23.csv";
+    writeWholeFile(f, "# Table 2.3\nparameter,Q_max,Q_c,alpha\ns_dev_max,0.1137,0.09166,7.916\nbeta_s,30.76,57.00,16.86\n"
+                      "F_dev_max,0,0.1694,4.562\nbeta_F,0,57.89,5.366\n");
+    const AnisotropyModel m = readAnisotropyTable(f, 0.6653);
+    EXPECT_DOUBLE_EQ(m.sMax.value[0], 0.1137);
+    EXPECT_NEAR(m.sMax.value[0] + m.sMax.value[1], 0.09166, 1e-15);  // Q_c = Q_max + Q_v
+    EXPECT_DOUBLE_EQ(m.betaF.value[2], 5.366);
+    EXPECT_DOUBLE_EQ(m.vLo, 0.0);  // table coefficients: no bound
+    const auto p = m.predictF({0.7}, {0.1}, 0.02);
+    EXPECT_NEAR(p[0], saturationModel(0.1, volumeDependenceModel(0.7, 0, 0.1694, 4.562, 0.6653), 0.02,
+                                      volumeDependenceModel(0.7, 0, 57.89, 5.366, 0.6653)), 1e-12);
+    for (const char* bad : {"parameter,Q_max,Q_c\ns_dev_max,1,2\n",                                      // header
+                            "parameter,Q_max,Q_c,alpha\ns_dev_max,1,x,3\n",                              // number
+                            "parameter,Q_max,Q_c,alpha\nbeta_x,1,2,3\n",                                 // name
+                            "parameter,Q_max,Q_c,alpha\ns_dev_max,1,2,3\nbeta_s,1,2,3\n"}) {           // rows missing
+        writeWholeFile(f, bad);
+        EXPECT_THROW(readAnisotropyTable(f, 0.6653), InputError) << bad;
+    }
 }
 
 TEST(Fitting, RefusesTooFewPoints) {

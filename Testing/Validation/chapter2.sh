@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Thesis chapter 2 (frictionless, N = 9261, preset thesis-ch2): ISO cycle, UNI cycle from v0, D2/D3 at
-# several v_i from the ISO unloading branch; Table 2.2-style fits and the comparison of Sec. 2.5-2.7.
+# several v_i from the ISO unloading branch, UNI cycles from v_i = 0.671/0.695/0.728 on that branch
+# (Fig. 2.12/2.14); Table 2.2-style fits and the comparison of Sec. 2.5-2.7.
 # Usage: chapter2.sh BIN_DIR SOURCE_DIR [THREADS]      (days of CPU time at full scale)
 # Environment: D2_RATE (strain-rate amplitude of the z axis, 1/s; default 5.27, the thesis' slow rate),
 #   D2_EPS (deviatoric strain to reach, default 0.3), MODES ("D2 D3"), VS (v_i list, three decimals as
-#   in the restart names), SKIP_RUNS=1 (analyse the files already in ch2/).
+#   in the restart names), UNI_VS (start fractions of the Fig. 2.12 UNI runs, default 0.671 0.695 0.728),
+#   SKIP_RUNS=1 (analyse the files already in ch2/).
 # Checks (exit 1 if one fails): C* fits (C0 = 6) within v_c +-0.004, alpha +-0.05, C1 +-10 % of
 # Table 2.2 for ISO and UNI unloading; v_c(ISO) > v_c(UNI) > v_c(D2); p0 within 10 %.
 # v_c(D2): Eq. 2.11 through the steady-state C* of the D2 runs (pdpm-fit steady, eps_dev >= 0.08),
@@ -15,11 +17,16 @@ bin="$1"; src="$2"; threads="${3:-2}"
 ref="$src/../shared/data/thesis/table_2_2_frictionless_fits.csv"
 rate="${D2_RATE:-5.27}"; epsmax="${D2_EPS:-0.3}"; modes="${MODES:-D2 D3}"
 vs=$(for v in ${VS:-0.68 0.70 0.72 0.75 0.78}; do printf '%.3f ' "$v"; done)   # restart names carry three decimals
+uvs=$(for v in ${UNI_VS:-0.671 0.695 0.728}; do printf '%.3f ' "$v"; done)
+ref23="$src/../shared/data/thesis/table_2_3_deviatoric_evolution.csv"
 epsmin=$(python3 -c "print(min(0.08, 0.5 * $epsmax))")                       # steady state: second half at least
 common=(--preset thesis-ch2 --threads "$threads" --quiet --vtk 0)
 if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
-  "$bin/IsotropicCompression" "${common[@]}" --output ch2 --name ISO --save_fractions "$(echo $vs | tr ' ' ,)"
+  "$bin/IsotropicCompression" "${common[@]}" --output ch2 --name ISO --save_fractions "$(echo $vs $uvs | tr ' ' ,)"
   "$bin/UniaxialCyclic" "${common[@]}" --output ch2 --name UNI
+  for v in $uvs; do
+    "$bin/UniaxialCyclic" "${common[@]}" --output ch2 --name "UNI_$v" --start "ch2/ISO.unload_$v.restart"
+  done
   for v in $vs; do
     for m in $modes; do
       "$bin/DeviatoricD2" "${common[@]}" --output ch2 --name "${m}_$v" --mode "$m" --rate "$rate" --eps_dev_max "$epsmax" \
@@ -38,6 +45,37 @@ if (( ${#d2[@]} < 4 )); then
 fi
 "$bin/pdpm-fit" steady "${d2[@]}" --eps_min "$epsmin" "${shape[@]}" | tee ch2/d2_steady.txt
 "$bin/pdpm-fit" model --uni ch2/UNI.macro.csv "${d2[@]}" | tee ch2/table_2_3_measured.txt || true
+# Sec. 2.7.3: predict the UNI runs started on the ISO unloading branch from the D2/D3 calibration (and
+# from the thesis' Table 2.3 when present); Fig. 2.12 (s_dev) and Fig. 2.14 (F_dev) as PNGs
+t23=(); [[ -f "$ref23" ]] && t23=(--table "$ref23")
+preds=()
+for v in $uvs; do
+  [[ -f "ch2/UNI_$v.macro.csv" ]] || continue
+  "$bin/pdpm-fit" model --uni "ch2/UNI_$v.macro.csv" "${d2[@]}" "${t23[@]}" --out "ch2/pred_UNI_$v.csv" \
+    | grep '^prediction of' | tee -a ch2/uni_predictions.txt || true
+  [[ -f "ch2/pred_UNI_$v.csv" ]] && preds+=("ch2/pred_UNI_$v.csv")
+done
+if (( ${#preds[@]} > 0 )) && command -v gnuplot > /dev/null; then
+  for q in s_dev F_dev; do
+    fig=$([[ $q == s_dev ]] && echo fig_2_12 || echo fig_2_14)
+    {
+      echo "set terminal pngcairo size 900,600 noenhanced; set output 'ch2/$fig.png'; set datafile separator ','"
+      echo "set key autotitle columnhead; set grid; set xlabel 'deviatoric strain eps_dev'; set ylabel '$q'"
+      printf "plot "
+      k=0
+      for f in "${preds[@]}"; do
+        vi=$(basename "$f" .csv | sed 's/pred_UNI_//')
+        (( k > 0 )) && printf ", "
+        printf "'%s' u 'eps_dev':'%s' w p pt 7 ps 0.6 lc %d t 'DEM v_i = %s', '%s' u 'eps_dev':'%s_pred_runs' w l lw 2 lc %d t 'Eq. 2.17/2.18, D2/D3 calibration'" \
+          "$f" "$q" "$((k + 1))" "$vi" "$f" "$q" "$((k + 1))"
+        [[ -f "$ref23" ]] && printf ", '%s' u 'eps_dev':'%s_pred_table' w l dt 2 lc %d t 'Table 2.3'" "$f" "$q" "$((k + 1))"
+        k=$((k + 1))
+      done
+      echo
+    } > "ch2/$fig.gp"
+    gnuplot "ch2/$fig.gp" || echo "chapter2.sh: gnuplot failed for $fig"
+  done
+fi
 if [[ ! -f "$ref" ]]; then echo "chapter2.sh: reference $ref absent: comparison skipped"; exit 0; fi
 python3 - "$ref" ch2/table_2_2_measured.txt ch2/d2_steady.txt <<'PY'
 import sys, csv

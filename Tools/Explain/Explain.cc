@@ -560,8 +560,28 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             js[pp] = (std::isnan(M.defs()[pp].off) ? js[pp] : M.defs()[pp].off) + (js[pp] - (std::isnan(M.defs()[pp].off) ? 0 : M.defs()[pp].off)) * U(local);
             starts.push_back(js);
             FitResult f = F.fit(on2, starts);
+            double bicBest = bic(f.rss, n, nLik, nm.nEff, nFree(M, on2));
+            // The nuisances were chosen on the baseline, before any mechanism: a sensor offset and
+            // drift can have taken up part of this mechanism's signature (e.g. the tension of
+            // cohesion). A candidate that fails the criterion with them is therefore also fitted
+            // without each selected nuisance, and the better BIC stands for it. A candidate that
+            // passes with the nuisances keeps them (dropping a real drift would bias its parameters).
+            const bool passesWithNuisances = bicCur - bicBest >= opt.bicThreshold;
+            for (int u : nuis) {
+                if (!on2[u] || passesWithNuisances) continue;
+                std::vector<char> on3 = on2;
+                on3[u] = 0;
+                FitResult g = F.fit(on3, {f.p});
+                const double b3 = bic(g.rss, n, nLik, nm.nEff, nFree(M, on3));
+                if (b3 < bicBest) {
+                    bicBest = b3;
+                    f = std::move(g);
+                    on2 = on3;
+                    cd.dropsNuisances = {u};
+                }
+            }
             cd.rss = f.rss;
-            cd.dBIC = bicCur - bic(f.rss, n, nLik, nm.nEff, nFree(M, on2));
+            cd.dBIC = bicCur - bicBest;
             cd.p = f.p;
             cd.se = f.se;
             if (cd.orthFraction < 0.05)
@@ -587,13 +607,17 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             }
             std::vector<char> on2 = on;
             on2[cd.comp] = 1;
+            for (int u : cd.dropsNuisances) on2[u] = 0;
             cd.heldoutBase = heldoutRmse(F, on, cur.p, opt.folds, foldOf);
             cd.heldoutAug = heldoutRmse(F, on2, cd.p, opt.folds, foldOf);
             if (cd.heldoutAug < cd.heldoutBase || opt.forceBest) {
                 cd.accepted = cd.dBIC >= opt.bicThreshold && cd.heldoutAug < cd.heldoutBase;
                 chosen = int(order[oi]);
                 if (!cd.accepted) cd.note = "forced addition (benchmark control), fails the criterion";
-                else cd.note = "accepted";
+                else {
+                    cd.note = "accepted";
+                    for (int u : cd.dropsNuisances) cd.note += std::string(", without the nuisance ") + compName(u);
+                }
                 // near-tie with the runner-up in the first round: ambiguous
                 if (round == 1 && cd.accepted) {
                     for (std::size_t oj = oi + 1; oj < order.size(); ++oj) {
@@ -615,6 +639,11 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         if (chosen < 0) break;
         const Candidate& ch = roundC[std::size_t(chosen)];
         on[ch.comp] = 1;
+        for (int u : ch.dropsNuisances) {
+            on[u] = 0;
+            R.nuisances.erase(std::remove(R.nuisances.begin(), R.nuisances.end(), u), R.nuisances.end());
+            R.nuisancesDropped.push_back(u);
+        }
         FitResult f = F.fit(on, {ch.p});
         cur = f;
         accepted.push_back(ch.comp);
@@ -647,6 +676,23 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             }
         }
     }
+
+    // ---- nuisances re-checked on the final model: one left out (or dropped above) that now pays
+    // for itself (the same rule as in step 2) is added back ----
+    if (!accepted.empty() && !opt.forceBest)
+        for (int u : nuis) {
+            if (on[u]) continue;
+            std::vector<char> on2 = on;
+            on2[u] = 1;
+            FitResult f = F.fit(on2, startsFor(M, u, cur.p));
+            if (bic(cur.rss, n, nLik, nm.nEff, nFree(M, on)) - bic(f.rss, n, nLik, nm.nEff, nFree(M, on2)) >= 2) {
+                on = on2;
+                cur = f;
+                R.nuisancesDropped.erase(std::remove(R.nuisancesDropped.begin(), R.nuisancesDropped.end(), u),
+                                         R.nuisancesDropped.end());
+                R.nuisances.push_back(u);
+            }
+        }
 
     // inclusion probability of each accepted mechanism: its BIC weight among the alternatives of the
     // round in which it was added (see below which candidates count), times the BIC probability that the final model needs it at all (the final model against the
@@ -690,10 +736,23 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         R.pNoiseFinal = blockChiSquarePValue(rf, nm, nFree(M, on));
     }
     {
+        // The explained part is the final model minus the baseline model. If a nuisance of the
+        // baseline was dropped, that difference would contain the nuisance's own shape (a drift
+        // spreads over the whole record), so the windows use the final model refitted with the
+        // dropped nuisances back in: the mismatch is located against the same baseline-plus-
+        // nuisances reference as without the drop.
         std::vector<double> explained;
         if (!accepted.empty() && !opt.forceBest) {
+            const std::vector<double>* yMech = &cur.model;
+            FitResult withDropped;
+            if (!R.nuisancesDropped.empty()) {
+                std::vector<char> on2 = on;
+                for (int u : R.nuisancesDropped) on2[u] = 1;
+                withDropped = F.fit(on2, {cur.p, R.pBaseline});
+                yMech = &withDropped.model;
+            }
             explained.resize(n);
-            for (std::size_t i = 0; i < n; ++i) explained[i] = cur.model[i] - R.yBaseline[i];
+            for (std::size_t i = 0; i < n; ++i) explained[i] = (*yMech)[i] - R.yBaseline[i];
         }
         // once mechanisms are added and the final residual passes the noise test, the rest is noise
         const bool restIsNoise = !explained.empty() && R.pNoiseFinal >= 1e-3;
@@ -940,6 +999,9 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         nu.push(o);
     }
     j.set("nuisances", nu);
+    Json nd = Json::array();
+    for (int c : R.nuisancesDropped) nd.push(compName(c));
+    j.set("nuisances_dropped", nd);
     Json wins = Json::array();
     for (const auto& w : R.windows) wins.push(windowJson(w));
     j.set("windows", wins);
@@ -1079,6 +1141,10 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             }
             md << "\n";
         }
+        for (int c : R.nuisancesDropped)
+            md << "- The nuisance " << compName(c)
+               << " was corrected for in the baseline fit and is dropped from the final model: the mechanisms "
+                  "explain what it had taken up.\n";
         md << "\n";
         for (const auto& m : R.mechanisms)
             if (m.comp == kRelaxation && !m.perHold.holds.empty()) {

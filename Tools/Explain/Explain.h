@@ -45,6 +45,9 @@ struct Candidate {
     double heldoutBase = -1, heldoutAug = -1;
     std::string note;
     std::vector<double> p, se;
+    /// nuisances of the current model this candidate's best fit goes without (a nuisance selected on
+    /// the baseline may have absorbed part of the mechanism's signature; see explain(), step 4)
+    std::vector<int> dropsNuisances;
 };
 
 struct Window {
@@ -75,7 +78,8 @@ struct ExplainResult {
     std::string verdict;
     std::string summary;
     std::vector<MechanismResult> mechanisms;
-    std::vector<int> nuisances;
+    std::vector<int> nuisances;         ///< nuisances of the final model
+    std::vector<int> nuisancesDropped;  ///< selected on the baseline, dropped with an added mechanism
     std::vector<Candidate> candidates;
     std::vector<Window> windows;
     std::string ambiguousWith;  ///< second mechanism when verdict == ambiguous

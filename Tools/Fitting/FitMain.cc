@@ -2,7 +2,9 @@
 //
 //   pdpm-fit cstar|rattlers|pressure|sdev|fdev FILE [--branch B] [--vc X] [--c0 C0]
 //   pdpm-fit table FILE... [--branch B]                 Table 2.2-style table, one row per file
-//   pdpm-fit model --uni FILE D2FILE... [--vc X]        Sec. 2.7: calibrate on D2/D3 runs, predict UNI
+//   pdpm-fit model --uni FILE [D2FILE...] [--table T23.csv] [--vc X] [--out PRED.csv]
+//                                                       Sec. 2.7: calibrate on D2/D3 runs (and/or read Table 2.3
+//                                                       coefficients), predict the UNI loading branch
 //   pdpm-fit plot --out DIR FILE...                     PNG figures through gnuplot (test rows, tau >= 0)
 //   pdpm-fit steady FILE... [--eps_min E] [--c1 X] [--alpha Y]
 //                                                       steady state of deviatoric runs (rows with eps_dev >= E):
@@ -20,12 +22,14 @@
 #include "Core/RunMain.h"
 #include "Fitting.h"
 #include "IO/AtomicFile.h"
+#include "IO/Csv.h"
 
 using namespace pdpm;
 
 namespace {
 struct Args {
-    std::string command, branch = "auto", out = ".", uni;
+    std::string command, branch = "auto", out = ".", uni, table;
+    bool outGiven = false;
     double vc = 0.6653, c0 = 6, epsMin = 0.08, c1 = 0, alpha = 0;
     bool vcGiven = false;
     std::vector<std::string> files;
@@ -62,12 +66,17 @@ Args parse(int argc, char** argv) {
             number(a.alpha);
             if (!(a.alpha > 0)) inputError("--alpha: must be > 0");
         }
-        else if (s == "--out") a.out = value();
-        else if (s == "--uni") a.uni = value();
+        else if (s == "--out") {
+            a.out = value();
+            a.outGiven = true;
+        } else if (s == "--uni") a.uni = value();
+        else if (s == "--table") a.table = value();
         else if (s.rfind("--", 0) == 0) inputError("unknown option " + s);
         else a.files.push_back(s);
     }
-    if (a.files.empty()) inputError(a.command + ": no input file");
+    if (a.command == "model" && a.files.empty() && a.table.empty())
+        inputError("model: no D2/D3 run file and no --table: nothing to calibrate the prediction on");
+    if (a.files.empty() && a.command != "model") inputError(a.command + ": no input file");
     return a;
 }
 
@@ -199,6 +208,75 @@ int steady(const Args& a) {
     if (v.size() >= 4) print("Eq. 2.14 p(v) through the steady states", fitPressure(v, cm, pnd));
     return 0;
 }
+// Sec. 2.7: calibrate the reduced anisotropy model on D2/D3 runs (Eq. 2.17/2.18 per run, Eq. 2.20
+// over the runs) and/or read a Table 2.3-style coefficient file, then predict the loading branch of
+// a uniaxial run (Eq. 2.17/2.18 with v-dependent coefficients along its path, Fig. 2.12/2.14).
+int model(const Args& a) {
+    if (a.uni.empty()) inputError("model: --uni FILE (the uniaxial run to predict) is required");
+    std::vector<std::pair<std::string, AnisotropyModel>> models;
+    if (!a.files.empty()) {
+        std::vector<CsvTable> runs;
+        for (const auto& f : a.files) runs.push_back(readCsv(f));
+        std::vector<std::pair<double, std::pair<FitResult, FitResult>>> per;
+        models.push_back({"runs", calibrateAnisotropy(runs, a.vc, &per)});
+        std::printf("per run (Eq. 2.17 / 2.18):\n%8s %10s %10s %10s %10s\n", "v", "s_max", "beta_s", "F_max", "beta_F");
+        for (const auto& [v, fits] : per)
+            std::printf("%8.4f %10.5f %10.4f %10.5f %10.4f\n", v, fits.first.get("q_max"), fits.first.get("beta"),
+                        fits.second.get("q_max"), fits.second.get("beta"));
+    }
+    if (!a.table.empty()) models.push_back({"table", readAnisotropyTable(a.table, a.vc)});
+    for (const auto& [name, m] : models) {
+        if (name == "runs")
+            std::printf("Eq. 2.20, v_c = %.4f (calibrated on the runs, Table 2.3 style; held constant below the "
+                        "lowest run, v = %.4f):\n",
+                        a.vc, m.vLo);
+        else
+            std::printf("Eq. 2.20, v_c = %.4f (%s):\n", a.vc, a.table.c_str());
+        std::printf("%-10s %10s %10s %10s\n", "parameter", "Q_max", "Q_c", "alpha");
+        auto row = [](const char* n, const FitResult& r) {
+            std::printf("%-10s %10.5g %10.5g %10.5g\n", n, r.value[0], r.value[0] + r.value[1], r.value[2]);
+        };
+        row("s_dev_max", m.sMax);
+        row("beta_s", m.betaS);
+        row("F_dev_max", m.fMax);
+        row("beta_F", m.betaF);
+    }
+    const CsvTable u = readCsv(a.uni);
+    const auto rows = selectRows(u, BranchSelect::Loading);
+    if (rows.size() < 3) inputError(a.uni + ": fewer than 3 loading rows");
+    const auto v = column(u, rows, "volume_fraction"), e = column(u, rows, "eps_dev");
+    const auto s = column(u, rows, "s_dev"), f = column(u, rows, "F_dev");
+    std::vector<std::string> cols = {"eps_dev", "volume_fraction", "s_dev", "F_dev"};
+    std::vector<std::vector<double>> pred;
+    for (const auto& [name, m] : models) {
+        const auto ps = m.predictS(v, e, s.front()), pf = m.predictF(v, e, f.front());
+        double es = 0, ef = 0, ns = 0, nf = 0;
+        for (std::size_t i = 0; i < s.size(); ++i) {
+            es += (ps[i] - s[i]) * (ps[i] - s[i]);
+            ef += (pf[i] - f[i]) * (pf[i] - f[i]);
+            ns += s[i] * s[i];
+            nf += f[i] * f[i];
+        }
+        std::printf("prediction of %s (loading, %zu rows, v %.4f-%.4f) from the %s coefficients: relative rms error "
+                    "s_dev %.3f, F_dev %.3f\n",
+                    a.uni.c_str(), s.size(), v.front(), v.back(), name.c_str(), std::sqrt(es / ns), std::sqrt(ef / nf));
+        cols.push_back("s_dev_pred_" + name);
+        cols.push_back("F_dev_pred_" + name);
+        pred.push_back(ps);
+        pred.push_back(pf);
+    }
+    if (a.outGiven) {
+        std::vector<std::vector<double>> out;
+        for (std::size_t i = 0; i < s.size(); ++i) {
+            std::vector<double> r = {e[i], v[i], s[i], f[i]};
+            for (const auto& p : pred) r.push_back(p[i]);
+            out.push_back(std::move(r));
+        }
+        writeCsv(a.out, cols, out, {"pdpm-fit model: loading branch of " + a.uni + " with the Eq. 2.17/2.18 predictions"});
+        std::printf("prediction written to %s\n", a.out.c_str());
+    }
+    return 0;
+}
 } // namespace
 
 int main(int argc, char** argv) {
@@ -207,7 +285,7 @@ int main(int argc, char** argv) {
             std::cout << "pdpm-fit: fits of thesis chapter 2 on RUN.macro.csv files\n"
                          "  pdpm-fit cstar|rattlers|pressure|sdev|fdev FILE [--branch B] [--vc X] [--c0 C0]\n"
                          "  pdpm-fit table FILE... [--branch B]\n"
-                         "  pdpm-fit model --uni FILE D2FILE... [--vc X]\n"
+                         "  pdpm-fit model --uni FILE [D2FILE...] [--table T23.csv] [--vc X] [--out PRED.csv]\n"
                          "  pdpm-fit plot --out DIR FILE...\n"
                          "  pdpm-fit steady FILE... [--eps_min E] [--c1 X] [--alpha Y]   deviatoric steady state, Eq. 2.11 through it\n"
                          "B: auto (default), loading, unloading, test.\n";
@@ -234,42 +312,7 @@ int main(int argc, char** argv) {
             }
             return 0;
         }
-        if (a.command == "model") {
-            if (a.uni.empty()) inputError("model: --uni FILE (the uniaxial run to predict) is required");
-            std::vector<CsvTable> runs;
-            for (const auto& f : a.files) runs.push_back(readCsv(f));
-            std::vector<std::pair<double, std::pair<FitResult, FitResult>>> per;
-            const AnisotropyModel m = calibrateAnisotropy(runs, a.vc, &per);
-            std::printf("per run (Eq. 2.17 / 2.18):\n%8s %10s %10s %10s %10s\n", "v", "s_max", "beta_s", "F_max", "beta_F");
-            for (const auto& [v, fits] : per)
-                std::printf("%8.4f %10.5f %10.4f %10.5f %10.4f\n", v, fits.first.get("q_max"), fits.first.get("beta"),
-                            fits.second.get("q_max"), fits.second.get("beta"));
-            std::printf("Eq. 2.20, v_c = %.4f (Table 2.3 style):\n%-10s %10s %10s %10s\n", a.vc, "parameter", "Q_max", "Q_c",
-                        "alpha");
-            auto row = [](const char* n, const FitResult& r) {
-                std::printf("%-10s %10.5g %10.5g %10.5g\n", n, r.value[0], r.value[0] + r.value[1], r.value[2]);
-            };
-            row("s_dev_max", m.sMax);
-            row("beta_s", m.betaS);
-            row("F_dev_max", m.fMax);
-            row("beta_F", m.betaF);
-            const CsvTable u = readCsv(a.uni);
-            const auto rows = selectRows(u, BranchSelect::Loading);
-            if (rows.size() < 3) inputError(a.uni + ": fewer than 3 loading rows");
-            const auto v = column(u, rows, "volume_fraction"), e = column(u, rows, "eps_dev");
-            const auto s = column(u, rows, "s_dev"), f = column(u, rows, "F_dev");
-            const auto ps = m.predictS(v, e, s.front()), pf = m.predictF(v, e, f.front());
-            double es = 0, ef = 0, ns = 0, nf = 0;
-            for (std::size_t i = 0; i < s.size(); ++i) {
-                es += (ps[i] - s[i]) * (ps[i] - s[i]);
-                ef += (pf[i] - f[i]) * (pf[i] - f[i]);
-                ns += s[i] * s[i];
-                nf += f[i] * f[i];
-            }
-            std::printf("prediction of %s (loading, %zu rows): relative rms error s_dev %.3f, F_dev %.3f\n", a.uni.c_str(),
-                        s.size(), std::sqrt(es / ns), std::sqrt(ef / nf));
-            return 0;
-        }
+        if (a.command == "model") return model(a);
         if (a.files.size() != 1) inputError(a.command + ": exactly one input file");
         const CsvTable t = readCsv(a.files.front());
         const Jammed j = jammedRows(t, b);

@@ -5,8 +5,11 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <sstream>
 
 #include "Core/Error.h"
+#include "Core/Parameters.h"
+#include "IO/AtomicFile.h"
 
 namespace pdpm {
 
@@ -231,8 +234,9 @@ std::vector<double> AnisotropyModel::predictS(const std::vector<double>& v, cons
                                               double s0) const {
     std::vector<double> out;
     for (std::size_t i = 0; i < v.size(); ++i) {
-        const double sm = volumeDependenceModel(v[i], sMax.value[0], sMax.value[1], sMax.value[2], vc);
-        const double b = volumeDependenceModel(v[i], betaS.value[0], betaS.value[1], betaS.value[2], vc);
+        const double vi = std::max(v[i], vLo);
+        const double sm = volumeDependenceModel(vi, sMax.value[0], sMax.value[1], sMax.value[2], vc);
+        const double b = volumeDependenceModel(vi, betaS.value[0], betaS.value[1], betaS.value[2], vc);
         out.push_back(saturationModel(eps[i], sm, s0, b));
     }
     return out;
@@ -241,11 +245,59 @@ std::vector<double> AnisotropyModel::predictF(const std::vector<double>& v, cons
                                               double f0) const {
     std::vector<double> out;
     for (std::size_t i = 0; i < v.size(); ++i) {
-        const double fm = volumeDependenceModel(v[i], fMax.value[0], fMax.value[1], fMax.value[2], vc);
-        const double b = volumeDependenceModel(v[i], betaF.value[0], betaF.value[1], betaF.value[2], vc);
+        const double vi = std::max(v[i], vLo);
+        const double fm = volumeDependenceModel(vi, fMax.value[0], fMax.value[1], fMax.value[2], vc);
+        const double b = volumeDependenceModel(vi, betaF.value[0], betaF.value[1], betaF.value[2], vc);
         out.push_back(saturationModel(eps[i], fm, f0, b));
     }
     return out;
+}
+
+AnisotropyModel readAnisotropyTable(const std::string& path, double vc) {
+    AnisotropyModel m;
+    m.vc = vc;
+    const std::string text = readWholeFile(path);
+    std::istringstream is(text);
+    std::string line;
+    bool header = false;
+    int found = 0;
+    long lineNo = 0;
+    while (std::getline(is, line)) {
+        ++lineNo;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.empty() || line[0] == '#') continue;
+        std::vector<std::string> cells;
+        std::stringstream ls(line);
+        std::string c;
+        while (std::getline(ls, c, ',')) cells.push_back(c);
+        const std::string where = path + ":" + std::to_string(lineNo) + ": ";
+        if (!header) {
+            if (cells != std::vector<std::string>{"parameter", "Q_max", "Q_c", "alpha"})
+                inputError(where + "expected the header parameter,Q_max,Q_c,alpha");
+            header = true;
+            continue;
+        }
+        if (cells.size() != 4) inputError(where + "expected 4 cells");
+        double q[3];
+        for (int k = 0; k < 3; ++k)
+            if (!parseStrictDouble(cells[std::size_t(k) + 1], q[k])) inputError(where + "'" + cells[std::size_t(k) + 1] + "' is not a number");
+        FitResult r;
+        r.names = {"Q_max", "Q_v", "alpha"};
+        r.value = {q[0], q[1] - q[0], q[2]};  // Eq. 2.20 with Q_v = Q_c - Q_max
+        r.stderror = {0, 0, 0};
+        r.fixed = {true, true, true};
+        FitResult* dst = cells[0] == "s_dev_max" ? &m.sMax
+                         : cells[0] == "beta_s"  ? &m.betaS
+                         : cells[0] == "F_dev_max" ? &m.fMax
+                         : cells[0] == "beta_F"  ? &m.betaF
+                                                 : nullptr;
+        if (!dst) inputError(where + "unknown parameter '" + cells[0] + "' (s_dev_max, beta_s, F_dev_max, beta_F)");
+        if (!dst->value.empty()) inputError(where + "parameter '" + cells[0] + "' given twice");
+        *dst = r;
+        ++found;
+    }
+    if (found != 4) inputError(path + ": needs the rows s_dev_max, beta_s, F_dev_max and beta_F");
+    return m;
 }
 
 AnisotropyModel calibrateAnisotropy(const std::vector<CsvTable>& runs, double vc,
@@ -273,6 +325,7 @@ AnisotropyModel calibrateAnisotropy(const std::vector<CsvTable>& runs, double vc
     m.betaS = enough ? fitVolumeDependence(v, bs, vc, false) : fitVolumeDependence(v, bs, vc, true);
     m.fMax = fitVolumeDependence(v, fm, vc, true);
     m.betaF = fitVolumeDependence(v, bf, vc, true);
+    m.vLo = *std::min_element(v.begin(), v.end());
     return m;
 }
 

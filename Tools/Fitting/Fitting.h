@@ -61,10 +61,18 @@ std::vector<double> column(const CsvTable& t, const std::vector<std::vector<doub
 struct AnisotropyModel {
     FitResult sMax, betaS, fMax, betaF;
     double vc = 0.6653;
+    /// Eq. 2.20 is evaluated at max(v, vLo): below the lowest calibration run the exponential of a fit
+    /// over a few points is not extrapolated towards v_c (where it runs away); above, Eq. 2.20 decays
+    /// to its large-v limit by construction. vLo = 0 (no bound) for table coefficients.
+    double vLo = 0;
     /// Prediction along a path (v(eps), eps): s(eps) = s_max(v) - (s_max(v) - s0) exp(-beta_s(v) eps).
     std::vector<double> predictS(const std::vector<double>& v, const std::vector<double>& eps, double s0) const;
     std::vector<double> predictF(const std::vector<double>& v, const std::vector<double>& eps, double f0) const;
 };
+/// A Table 2.3-style coefficient file: CSV with the header `parameter,Q_max,Q_c,alpha` and one row
+/// each for s_dev_max, beta_s, F_dev_max, beta_F (`#` comments allowed; e.g. the thesis' table in
+/// ../shared/data/thesis/table_2_3_deviatoric_evolution.csv). InputError names a malformed file.
+AnisotropyModel readAnisotropyTable(const std::string& path, double vc);
 /// Calibrate from deviatoric runs: per run one Eq. (2.17) and one Eq. (2.18) fit at the run's volume
 /// fraction, then Eq. (2.20) over the runs. Needs at least 3 runs; `perRun` receives the per-run fits.
 AnisotropyModel calibrateAnisotropy(const std::vector<CsvTable>& deviatoricRuns, double vc,
