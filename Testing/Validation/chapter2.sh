@@ -48,10 +48,14 @@ fi
 # Sec. 2.7.3: predict the UNI runs started on the ISO unloading branch from the D2/D3 calibration (and
 # from the thesis' Table 2.3 when present); Fig. 2.12 (s_dev) and Fig. 2.14 (F_dev) as PNGs
 t23=(); [[ -f "$ref23" ]] && t23=(--table "$ref23")
+cal=(); (( ${#d2[@]} >= 3 )) && cal=("${d2[@]}")   # the calibration needs three runs at least
 preds=()
+: > ch2/uni_predictions.txt
 for v in $uvs; do
   [[ -f "ch2/UNI_$v.macro.csv" ]] || continue
-  "$bin/pdpm-fit" model --uni "ch2/UNI_$v.macro.csv" "${d2[@]}" "${t23[@]}" --out "ch2/pred_UNI_$v.csv" \
+  rm -f "ch2/pred_UNI_$v.csv"
+  (( ${#cal[@]} + ${#t23[@]} > 0 )) || continue
+  "$bin/pdpm-fit" model --uni "ch2/UNI_$v.macro.csv" "${cal[@]}" "${t23[@]}" --out "ch2/pred_UNI_$v.csv" \
     | grep '^prediction of' | tee -a ch2/uni_predictions.txt || true
   [[ -f "ch2/pred_UNI_$v.csv" ]] && preds+=("ch2/pred_UNI_$v.csv")
 done
@@ -66,9 +70,10 @@ if (( ${#preds[@]} > 0 )) && command -v gnuplot > /dev/null; then
       for f in "${preds[@]}"; do
         vi=$(basename "$f" .csv | sed 's/pred_UNI_//')
         (( k > 0 )) && printf ", "
-        printf "'%s' u 'eps_dev':'%s' w p pt 7 ps 0.6 lc %d t 'DEM v_i = %s', '%s' u 'eps_dev':'%s_pred_runs' w l lw 2 lc %d t 'Eq. 2.17/2.18, D2/D3 calibration'" \
-          "$f" "$q" "$((k + 1))" "$vi" "$f" "$q" "$((k + 1))"
-        [[ -f "$ref23" ]] && printf ", '%s' u 'eps_dev':'%s_pred_table' w l dt 2 lc %d t 'Table 2.3'" "$f" "$q" "$((k + 1))"
+        printf "'%s' u 'eps_dev':'%s' w p pt 7 ps 0.6 lc %d t 'DEM v_i = %s'" "$f" "$q" "$((k + 1))" "$vi"
+        (( ${#cal[@]} > 0 )) && printf ", '%s' u 'eps_dev':'%s_pred_runs' w l lw 2 lc %d t 'Eq. 2.17/2.18, D2/D3 calibration'" \
+          "$f" "$q" "$((k + 1))"
+        (( ${#t23[@]} > 0 )) && printf ", '%s' u 'eps_dev':'%s_pred_table' w l dt 2 lc %d t 'Table 2.3'" "$f" "$q" "$((k + 1))"
         k=$((k + 1))
       done
       echo

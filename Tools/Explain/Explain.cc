@@ -486,6 +486,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     if (cands.empty())
         for (int c = kRelaxation; c < kNumComp; ++c) cands.push_back(c);
     std::vector<int> accepted;
+    std::vector<std::vector<int>> dropsOf(kNumComp);  // nuisances each accepted mechanism replaced
     bool ambiguous = false;
     for (int round = 1; round <= opt.maxMechanisms; ++round) {
         const double bicCur = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
@@ -566,18 +567,23 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // cohesion). A candidate that fails the criterion with them is therefore also fitted
             // without each selected nuisance, and the better BIC stands for it. A candidate that
             // passes with the nuisances keeps them (dropping a real drift would bias its parameters).
+            // Only nuisances the selection chose (R.nuisances, not components MODEL.json switches
+            // on), one at a time, and never for the forced-addition control.
             const bool passesWithNuisances = bicCur - bicBest >= opt.bicThreshold;
-            for (int u : nuis) {
-                if (!on2[u] || passesWithNuisances) continue;
-                std::vector<char> on3 = on2;
-                on3[u] = 0;
-                FitResult g = F.fit(on3, {f.p});
-                const double b3 = bic(g.rss, n, nLik, nm.nEff, nFree(M, on3));
-                if (b3 < bicBest) {
-                    bicBest = b3;
-                    f = std::move(g);
-                    on2 = on3;
-                    cd.dropsNuisances = {u};
+            if (!passesWithNuisances && !opt.forceBest) {
+                const std::vector<char> onWith = on2;
+                const FitResult fWith = f;
+                for (int u : R.nuisances) {
+                    std::vector<char> on3 = onWith;
+                    on3[u] = 0;
+                    FitResult g = F.fit(on3, {fWith.p});
+                    const double b3 = bic(g.rss, n, nLik, nm.nEff, nFree(M, on3));
+                    if (b3 < bicBest) {
+                        bicBest = b3;
+                        f = std::move(g);
+                        on2 = on3;
+                        cd.dropsNuisances = {u};
+                    }
                 }
             }
             cd.rss = f.rss;
@@ -639,6 +645,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         if (chosen < 0) break;
         const Candidate& ch = roundC[std::size_t(chosen)];
         on[ch.comp] = 1;
+        dropsOf[std::size_t(ch.comp)] = ch.dropsNuisances;
         for (int u : ch.dropsNuisances) {
             on[u] = 0;
             R.nuisances.erase(std::remove(R.nuisances.begin(), R.nuisances.end(), u), R.nuisances.end());
@@ -651,6 +658,47 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         if (ambiguous) break;
     }
 
+    // The final model without mechanism c: the better of c simply switched off and c switched off
+    // with the nuisances it replaced switched back on (otherwise a term that only stood in for a
+    // nuisance would look indispensable). Returns the fit, its BIC and its component set.
+    struct Without {
+        FitResult f;
+        double bic = 0;
+        std::vector<char> on;
+    };
+    auto withoutMechanism = [&](int c) {
+        Without w;
+        w.on = on;
+        w.on[std::size_t(c)] = 0;
+        w.f = F.fit(w.on, {cur.p});
+        w.bic = bic(w.f.rss, n, nLik, nm.nEff, nFree(M, w.on));
+        std::vector<char> on3 = w.on;
+        bool any = false;
+        for (int u : dropsOf[std::size_t(c)])
+            if (!on3[std::size_t(u)]) on3[std::size_t(u)] = 1, any = true;
+        if (any) {
+            FitResult g = F.fit(on3, {cur.p, R.pBaseline});
+            const double b3 = bic(g.rss, n, nLik, nm.nEff, nFree(M, on3));
+            if (b3 < w.bic) {
+                w.f = std::move(g);
+                w.bic = b3;
+                w.on = on3;
+            }
+        }
+        return w;
+    };
+    auto syncNuisances = [&] {  // R.nuisances / R.nuisancesDropped from the current `on`
+        for (int u : nuis) {
+            const bool isOn = on[std::size_t(u)] != 0;
+            auto& from = isOn ? R.nuisancesDropped : R.nuisances;
+            auto& to = isOn ? R.nuisances : R.nuisancesDropped;
+            if (std::find(from.begin(), from.end(), u) != from.end()) {
+                from.erase(std::remove(from.begin(), from.end(), u), from.end());
+                to.push_back(u);
+            }
+        }
+    };
+
     // ---- backward check: drop an accepted mechanism that the later ones made redundant ----
     if (accepted.size() > 1 && !opt.forceBest) {
         bool dropped = true;
@@ -658,16 +706,16 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             dropped = false;
             const double bicFull = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
             for (std::size_t a = 0; a < accepted.size(); ++a) {
-                std::vector<char> on2 = on;
-                on2[accepted[a]] = 0;
-                FitResult f = F.fit(on2, {cur.p});
-                if (bic(f.rss, n, nLik, nm.nEff, nFree(M, on2)) - bicFull < opt.bicThreshold) {
+                Without w = withoutMechanism(accepted[a]);
+                if (w.bic - bicFull < opt.bicThreshold) {
                     for (auto& cd : R.candidates)
                         if (cd.comp == accepted[a] && cd.accepted) {
                             cd.accepted = false;
                             cd.note = "accepted, then dropped: redundant once the later mechanisms were added";
                         }
-                    on = on2;
+                    on = w.on;
+                    syncNuisances();
+                    FitResult f = std::move(w.f);
                     cur = f;
                     accepted.erase(accepted.begin() + long(a));
                     dropped = true;
@@ -686,11 +734,19 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             on2[u] = 1;
             FitResult f = F.fit(on2, startsFor(M, u, cur.p));
             if (bic(cur.rss, n, nLik, nm.nEff, nFree(M, on)) - bic(f.rss, n, nLik, nm.nEff, nFree(M, on2)) >= 2) {
+                const bool wasDropped = std::find(R.nuisancesDropped.begin(), R.nuisancesDropped.end(), u) !=
+                                        R.nuisancesDropped.end();
                 on = on2;
                 cur = f;
-                R.nuisancesDropped.erase(std::remove(R.nuisancesDropped.begin(), R.nuisancesDropped.end(), u),
-                                         R.nuisancesDropped.end());
-                R.nuisances.push_back(u);
+                if (wasDropped) {
+                    syncNuisances();
+                    for (auto& cd : R.candidates)
+                        if (cd.accepted && std::find(cd.dropsNuisances.begin(), cd.dropsNuisances.end(), u) !=
+                                               cd.dropsNuisances.end())
+                            cd.note += std::string("; ") + compName(u) + " added back on the final model";
+                } else {
+                    R.nuisances.push_back(u);
+                }
             }
         }
 
@@ -701,10 +757,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     {
         const double bicFull = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
         for (int c : accepted) {
-            std::vector<char> on2 = on;
-            on2[c] = 0;
-            const FitResult f = F.fit(on2, {cur.p});
-            const double dropBic = bic(f.rss, n, nLik, nm.nEff, nFree(M, on2)) - bicFull;
+            const double dropBic = withoutMechanism(c).bic - bicFull;
             int round = 0;
             double own = 0;
             for (const auto& cd : R.candidates)
@@ -1047,6 +1100,11 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             Json ps = Json::object();
             for (int k : M.paramsOf(c.comp)) ps.set(defs[k].name, c.p[k]);
             o.set("parameters", ps);
+            if (!c.dropsNuisances.empty()) {  // delta_bic is that of the fit without these nuisances
+                Json fw = Json::array();
+                for (int u : c.dropsNuisances) fw.push(compName(u));
+                o.set("fitted_without_nuisances", fw);
+            }
             if (c.heldoutBase >= 0) {
                 o.set("heldout_rmse_without", c.heldoutBase);
                 o.set("heldout_rmse_with", c.heldoutAug);
@@ -1143,8 +1201,8 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         }
         for (int c : R.nuisancesDropped)
             md << "- The nuisance " << compName(c)
-               << " was corrected for in the baseline fit and is dropped from the final model: the mechanisms "
-                  "explain what it had taken up.\n";
+               << " was corrected for in the baseline fit and is not in the final model: with the mechanisms in, "
+                  "it no longer pays for its parameters (it had taken up part of their signature).\n";
         md << "\n";
         for (const auto& m : R.mechanisms)
             if (m.comp == kRelaxation && !m.perHold.holds.empty()) {

@@ -266,6 +266,7 @@ AnisotropyModel readAnisotropyTable(const std::string& path, double vc) {
         ++lineNo;
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty() || line[0] == '#') continue;
+        if (line.back() == ',') inputError(path + ":" + std::to_string(lineNo) + ": empty last cell");
         std::vector<std::string> cells;
         std::stringstream ls(line);
         std::string c;
