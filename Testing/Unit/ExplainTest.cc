@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "Core/Error.h"
@@ -216,6 +217,56 @@ TEST(ExplainHoldFits, RecoversEachHoldsParametersAndTheStressTrend) {
     EXPECT_GT(s.beta, 0.2);
     const Json j = holdFitsJson(s);
     EXPECT_EQ(j.at("holds").asArray().size(), 3u);
+}
+
+// Degenerate holds (a noiseless constant stress: no decay, singular Jacobian; a hold at zero stress)
+// and too few holds for the stress trend: no exception, and the JSON holds only finite numbers or
+// null (Json refuses non-finite doubles; a NaN here once crashed the benchmark).
+TEST(ExplainHoldFits, DegenerateHoldsGiveFiniteOrNullJson) {
+    Recording rec;
+    double t = 0, e = 0;
+    auto emit = [&](double s) {
+        rec.t.push_back(t);
+        rec.strain.push_back(e);
+        rec.stress.push_back(s);
+        t += 0.2;
+    };
+    for (int j = 0; j < 200; ++j) {  // ramp to the first hold
+        e = 0.05 * j / 200.0;
+        emit(1e4 * e / 0.05);
+    }
+    e = 0.05;
+    for (int j = 0; j < 300; ++j) emit(1e4);  // hold 1: exactly constant
+    for (int j = 0; j < 200; ++j) {           // unload to zero force
+        e = 0.05 - 0.03 * j / 200.0;
+        emit(std::max(0.0, 1e4 * (1 - j / 150.0)));
+    }
+    e = 0.02;
+    for (int j = 0; j < 300; ++j) emit(0.0);  // hold 2: at zero stress
+    HoldFitSummary s;
+    ASSERT_NO_THROW(s = fitHolds(rec, 0.0));
+    Json j;
+    ASSERT_NO_THROW(j = holdFitsJson(s));
+    std::string text;
+    ASSERT_NO_THROW(text = j.dump());
+    EXPECT_EQ(text.find("nan"), std::string::npos);
+    EXPECT_EQ(text.find("inf"), std::string::npos);
+    EXPECT_TRUE(j.at("C_stress_exponent").isNull());  // fewer than 3 holds
+    // a hold whose Jacobian was singular: finite C, non-finite interval and t0 (what the benchmark hit)
+    HoldFitSummary bad;
+    HoldFit h;
+    h.C = 0.05;
+    h.stressStart = 1e4;
+    h.cLo = h.cHi = std::numeric_limits<double>::quiet_NaN();
+    h.t0 = h.t0Hi = std::numeric_limits<double>::infinity();
+    bad.holds = {h, h, h};
+    bad.meanC = 0.05;
+    bad.beta = bad.betaSe = std::numeric_limits<double>::quiet_NaN();  // equal stresses: no trend
+    Json jb;
+    ASSERT_NO_THROW(jb = holdFitsJson(bad));
+    EXPECT_TRUE(jb.at("holds").asArray()[0].at("C_ci95").asArray()[0].isNull());
+    EXPECT_TRUE(jb.at("holds").asArray()[0].at("t0_s").isNull());
+    EXPECT_TRUE(jb.at("C_stress_exponent").isNull());
 }
 
 // A compliance in series with a plastic unloading branch: the estimate follows the apparent ratio

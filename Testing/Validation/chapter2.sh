@@ -71,9 +71,11 @@ if (( ${#preds[@]} > 0 )) && command -v gnuplot > /dev/null; then
         vi=$(basename "$f" .csv | sed 's/pred_UNI_//')
         (( k > 0 )) && printf ", "
         printf "'%s' u 'eps_dev':'%s' w p pt 7 ps 0.6 lc %d t 'DEM v_i = %s'" "$f" "$q" "$((k + 1))" "$vi"
-        (( ${#cal[@]} > 0 )) && printf ", '%s' u 'eps_dev':'%s_pred_runs' w l lw 2 lc %d t 'Eq. 2.17/2.18, D2/D3 calibration'" \
-          "$f" "$q" "$((k + 1))"
-        (( ${#t23[@]} > 0 )) && printf ", '%s' u 'eps_dev':'%s_pred_table' w l dt 2 lc %d t 'Table 2.3'" "$f" "$q" "$((k + 1))"
+        # model lines in the run's colour, titled once: solid = D2/D3 calibration, dashed = Table 2.3
+        t1=$([[ $k == 0 ]] && echo "t 'Eq. 2.17/2.18 from D2/D3 runs (solid)'" || echo notitle)
+        t2=$([[ $k == 0 ]] && echo "t 'Eq. 2.17/2.18 from thesis Table 2.3 (dashed)'" || echo notitle)
+        (( ${#cal[@]} > 0 )) && printf ", '%s' u 'eps_dev':'%s_pred_runs' w l lw 2 lc %d %s" "$f" "$q" "$((k + 1))" "$t1"
+        (( ${#t23[@]} > 0 )) && printf ", '%s' u 'eps_dev':'%s_pred_table' w l dt 2 lc %d %s" "$f" "$q" "$((k + 1))" "$t2"
         k=$((k + 1))
       done
       echo
