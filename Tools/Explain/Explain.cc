@@ -369,6 +369,10 @@ void readModelFile(const std::string& path, ExplainOptions& opt) {
 }
 
 ExplainResult explain(const Recording& rec, const Protocol& proto, const ExplainOptions& opt) {
+    // Eigen splits large matrix products over the OpenMP threads outside parallel regions, with a
+    // blocking that depends on the thread count; the parallelism here is over candidates and folds,
+    // so Eigen runs on one thread and the report is the same for any --threads / OMP_NUM_THREADS.
+    Eigen::setNbThreads(1);
     ExplainResult R;
     const ModelInput in = makeModelInput(rec, proto);
     const Model M(in);
