@@ -490,3 +490,40 @@ TEST(ExplainSeveral, CommandWritesTheJointReportAndEachRecordingsOwn) {
               2);
     EXPECT_FALSE(std::filesystem::exists(d + "/p/report.json"));
 }
+
+// A calibrated instrument compliance (MODEL.json "instrument_compliance_ratio") is held, not fitted:
+// the unload/load stiffness ratio lambda of plasticity is then identifiable. Blind, one record only
+// shows lambda (1 + kappa) / (1 + lambda kappa) (the compliance softens the stiffer unloading more).
+TEST(ExplainCalibratedCompliance, RecoversTheUnloadStiffnessRatio) {
+    for (unsigned long seed : {401ul, 402ul, 403ul}) {
+        const GeneratedCase g = generateCase({"plasticity", 20, 0.0, seed, 1500});
+        const double lam = g.truth.at("primary_value").asNumber();
+        const double kap = g.truth.at("baseline_and_nuisances").at("compliance_ratio").asNumber();
+        const double app = g.truth.at("primary_value_identifiable").asNumber();
+        EXPECT_NEAR(app, lam * (1 + kap) / (1 + lam * kap), 1e-12 * lam);
+        ExplainOptions opt;
+        opt.figures = false;
+        opt.knownCompliance = kap;
+        const ExplainResult r = pdpm::explain::explain(g.rec, g.proto, opt);
+        ASSERT_EQ(r.verdict, "missing_physics") << "seed " << seed << ": " << r.summary;
+        ASSERT_EQ(r.mechanisms.front().comp, kPlasticity);
+        EXPECT_LT(std::abs(r.mechanisms.front().value[0] - lam) / (lam - 1), 0.1)
+            << "seed " << seed << ": lambda " << lam << " kappa " << kap << " estimate " << r.mechanisms.front().value[0];
+        EXPECT_EQ(r.pFinal[pKappa], kap) << "held at the calibrated value";
+        for (int c : r.nuisances) EXPECT_NE(c, kCompliance);
+    }
+}
+
+TEST(ExplainCalibratedCompliance, ModelFileRange) {
+    const pdpm::testing::TempDir tmp;
+    const std::string d = tmp.str();
+    ExplainOptions o;
+    for (const char* bad : {R"({"instrument_compliance_ratio": -0.01})", R"({"instrument_compliance_ratio": 0.5})",
+                            R"({"instrument_compliance_ratio": "x"})"}) {
+        writeWholeFile(d + "/m.json", bad);
+        EXPECT_THROW(readModelFile(d + "/m.json", o), InputError) << bad;
+    }
+    writeWholeFile(d + "/m.json", R"({"instrument_compliance_ratio": 0.04})");
+    readModelFile(d + "/m.json", o);
+    EXPECT_EQ(o.knownCompliance, 0.04);
+}

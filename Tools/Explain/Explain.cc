@@ -31,15 +31,16 @@ double rmsOf(const std::vector<double>& a, const std::vector<double>& b) {
 
 namespace {
 
-std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on) {
+/// Free parameters of the components switched on; `fixed` (a parameter index, or -1) is held, e.g. a
+/// calibrated instrument compliance.
+std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on, int fixed = -1) {
     std::vector<int> fr;
     for (int c = 0; c < kNumComp; ++c)
         if (on[c] || c == kBaseline)
-            for (int k : m.paramsOf(c)) fr.push_back(k);
+            for (int k : m.paramsOf(c))
+                if (k != fixed) fr.push_back(k);
     return fr;
 }
-
-int nFree(const Model& m, const std::vector<char>& on) { return int(freeParamsFor(m, on).size()); }
 
 /// A small "on" value of each component's parameters, for templates and start points.
 std::vector<std::vector<double>> startsFor(const Model& m, int c, const std::vector<double>& p) {
@@ -114,12 +115,15 @@ struct Fitter {
     const std::vector<double>& y;
     double inflation;
     Whitener whitener{};
+    int alwaysFixed = -1;  ///< a parameter no fit frees (the calibrated compliance), or -1
+    std::vector<int> freeParams(const std::vector<char>& on) const { return freeParamsFor(model, on, alwaysFixed); }
+    int nFree(const std::vector<char>& on) const { return int(freeParams(on).size()); }
     FitResult fit(const std::vector<char>& on, const std::vector<std::vector<double>>& starts,
                   const std::vector<double>& weights = {}, int heldFixed = -1) const {
         FitResult best;
         best.rss = std::numeric_limits<double>::infinity();
         FitOptions fo;
-        fo.freeParams = freeParamsFor(model, on);
+        fo.freeParams = freeParams(on);
         if (heldFixed >= 0) fo.freeParams.erase(std::remove(fo.freeParams.begin(), fo.freeParams.end(), heldFixed), fo.freeParams.end());
         fo.weights = weights;
         fo.covInflation = inflation;
@@ -362,6 +366,11 @@ void readModelFile(const std::string& path, ExplainOptions& opt) {
         opt.knownNoiseSigma = t->asNumber(path + ": noise_sigma_Pa");
         if (!(opt.knownNoiseSigma > 0)) inputError(path + ": noise_sigma_Pa must be > 0");
     }
+    if (const Json* t = j.find("instrument_compliance_ratio")) {
+        opt.knownCompliance = t->asNumber(path + ": instrument_compliance_ratio");
+        if (!(opt.knownCompliance >= 0 && opt.knownCompliance <= 0.3))
+            inputError(path + ": instrument_compliance_ratio must be in [0, 0.3] (instrument strain = ratio * stress / E)");
+    }
     if (const Json* t = j.find("bic_threshold")) {
         opt.bicThreshold = t->asNumber(path + ": bic_threshold");
         if (!(opt.bicThreshold >= 2)) inputError(path + ": bic_threshold must be >= 2");
@@ -404,6 +413,11 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         }
     }
     Fitter F{M, y, 1.0};
+    if (opt.knownCompliance > 0) {  // calibrated instrument: the compliance is part of the baseline, held
+        on[kCompliance] = 1;
+        p0[pKappa] = opt.knownCompliance;
+        F.alwaysFixed = pKappa;
+    }
     std::vector<std::vector<double>> baseStarts = {p0};
     for (int c : opt.baselineComps)
         for (auto& s : startsFor(M, c, p0)) baseStarts.push_back(s);
@@ -434,12 +448,13 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
 
     // ---- 2. nuisances first ----
     std::vector<int> nuis = opt.nuisances.empty() ? std::vector<int>{kCompliance, kDrift} : opt.nuisances;
+    if (opt.knownCompliance >= 0) nuis.erase(std::remove(nuis.begin(), nuis.end(), int(kCompliance)), nuis.end());
     for (int c : nuis) {
         if (on[c]) continue;
         std::vector<char> on2 = on;
         on2[c] = 1;
         FitResult f = F.fit(on2, startsFor(M, c, cur.p));
-        const double d = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on)) - bic(f.rss, n, nLik, nm.nEff, nFree(M, on2));
+        const double d = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on)) - bic(f.rss, n, nLik, nm.nEff, F.nFree(on2));
         if (d >= 2) {
             on = on2;
             cur = f;
@@ -461,7 +476,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     cur = F.fit(on, {cur.p});  // refit with the final noise model (and its covariance)
     for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
     R.noise = nm;
-    R.pNoiseBaseline = blockChiSquarePValue(r0, nm, nFree(M, on));
+    R.pNoiseBaseline = blockChiSquarePValue(r0, nm, F.nFree(on));
     R.pBaseline = cur.p;
     R.onBaseline = on;
     R.yBaseline = cur.model;
@@ -493,9 +508,9 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     std::vector<std::vector<int>> dropsOf(kNumComp);  // nuisances each accepted mechanism replaced
     bool ambiguous = false;
     for (int round = 1; round <= opt.maxMechanisms; ++round) {
-        const double bicCur = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
+        const double bicCur = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
         // Jacobian of the current model for the identifiability projection
-        const auto fr = freeParamsFor(M, on);
+        const auto fr = F.freeParams(on);
         Eigen::MatrixXd J(n, fr.size());
         {
             std::vector<double> mp;
@@ -565,7 +580,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             js[pp] = (std::isnan(M.defs()[pp].off) ? js[pp] : M.defs()[pp].off) + (js[pp] - (std::isnan(M.defs()[pp].off) ? 0 : M.defs()[pp].off)) * U(local);
             starts.push_back(js);
             FitResult f = F.fit(on2, starts);
-            double bicBest = bic(f.rss, n, nLik, nm.nEff, nFree(M, on2));
+            double bicBest = bic(f.rss, n, nLik, nm.nEff, F.nFree(on2));
             // The nuisances were chosen on the baseline, before any mechanism: a sensor offset and
             // drift can have taken up part of this mechanism's signature (e.g. the tension of
             // cohesion). A candidate that fails the criterion with them is therefore also fitted
@@ -581,7 +596,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     std::vector<char> on3 = onWith;
                     on3[u] = 0;
                     FitResult g = F.fit(on3, {fWith.p});
-                    const double b3 = bic(g.rss, n, nLik, nm.nEff, nFree(M, on3));
+                    const double b3 = bic(g.rss, n, nLik, nm.nEff, F.nFree(on3));
                     if (b3 < bicBest) {
                         bicBest = b3;
                         f = std::move(g);
@@ -675,14 +690,14 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         w.on = on;
         w.on[std::size_t(c)] = 0;
         w.f = F.fit(w.on, {cur.p});
-        w.bic = bic(w.f.rss, n, nLik, nm.nEff, nFree(M, w.on));
+        w.bic = bic(w.f.rss, n, nLik, nm.nEff, F.nFree(w.on));
         std::vector<char> on3 = w.on;
         bool any = false;
         for (int u : dropsOf[std::size_t(c)])
             if (!on3[std::size_t(u)]) on3[std::size_t(u)] = 1, any = true;
         if (any) {
             FitResult g = F.fit(on3, {cur.p, R.pBaseline});
-            const double b3 = bic(g.rss, n, nLik, nm.nEff, nFree(M, on3));
+            const double b3 = bic(g.rss, n, nLik, nm.nEff, F.nFree(on3));
             if (b3 < w.bic) {
                 w.f = std::move(g);
                 w.bic = b3;
@@ -708,7 +723,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         bool dropped = true;
         while (dropped && accepted.size() > 1) {
             dropped = false;
-            const double bicFull = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
+            const double bicFull = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
             for (std::size_t a = 0; a < accepted.size(); ++a) {
                 Without w = withoutMechanism(accepted[a]);
                 if (w.bic - bicFull < opt.bicThreshold) {
@@ -737,7 +752,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             std::vector<char> on2 = on;
             on2[u] = 1;
             FitResult f = F.fit(on2, startsFor(M, u, cur.p));
-            if (bic(cur.rss, n, nLik, nm.nEff, nFree(M, on)) - bic(f.rss, n, nLik, nm.nEff, nFree(M, on2)) >= 2) {
+            if (bic(cur.rss, n, nLik, nm.nEff, F.nFree(on)) - bic(f.rss, n, nLik, nm.nEff, F.nFree(on2)) >= 2) {
                 const bool wasDropped = std::find(R.nuisancesDropped.begin(), R.nuisancesDropped.end(), u) !=
                                         R.nuisancesDropped.end();
                 on = on2;
@@ -759,7 +774,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     // same model without it, even prior odds)
     std::vector<double> inclusion(kNumComp, 0.0);
     {
-        const double bicFull = bic(cur.rss, n, nLik, nm.nEff, nFree(M, on));
+        const double bicFull = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
         for (int c : accepted) {
             const double dropBic = withoutMechanism(c).bic - bicFull;
             int round = 0;
@@ -790,26 +805,30 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     {
         std::vector<double> rf(n);
         for (std::size_t i = 0; i < n; ++i) rf[i] = y[i] - cur.model[i];
-        R.pNoiseFinal = blockChiSquarePValue(rf, nm, nFree(M, on));
+        R.pNoiseFinal = blockChiSquarePValue(rf, nm, F.nFree(on));
     }
     {
-        // The explained part is the final model minus the baseline model. If a nuisance of the
-        // baseline was dropped, that difference would contain the nuisance's own shape (a drift
-        // spreads over the whole record), so the windows use the final model refitted with the
-        // dropped nuisances back in: the mismatch is located against the same baseline-plus-
-        // nuisances reference as without the drop.
+        // The explained part is the final model minus the baseline model, both refitted with every
+        // nuisance on: the mismatch is what no re-tuning of the baseline and the instrument can
+        // imitate, whichever nuisances the selection kept. (With only the selected nuisances, a
+        // nuisance dropped for a mechanism put its own shape into the difference, and a nuisance
+        // never selected left part of what it could absorb to be located as mismatch.)
         std::vector<double> explained;
         if (!accepted.empty() && !opt.forceBest) {
-            const std::vector<double>* yMech = &cur.model;
-            FitResult withDropped;
-            if (!R.nuisancesDropped.empty()) {
-                std::vector<char> on2 = on;
-                for (int u : R.nuisancesDropped) on2[u] = 1;
-                withDropped = F.fit(on2, {cur.p, R.pBaseline});
-                yMech = &withDropped.model;
-            }
+            std::vector<char> onB = R.onBaseline, onM = on;
+            for (int u : nuis) onB[u] = onM[u] = 1;
+            auto nested = [&](const std::vector<char>& o, const std::vector<double>& p) {  // p, and p + each nuisance just on
+                std::vector<std::vector<double>> st{p};
+                for (int u : nuis)
+                    if (!o[u]) st.push_back(startsFor(M, u, p).front());
+                return st;
+            };
+            const FitResult fb = F.fit(onB, nested(R.onBaseline, R.pBaseline));
+            auto stM = nested(on, cur.p);
+            stM.push_back(fb.p);
+            const FitResult fm = F.fit(onM, stM);
             explained.resize(n);
-            for (std::size_t i = 0; i < n; ++i) explained[i] = (*yMech)[i] - R.yBaseline[i];
+            for (std::size_t i = 0; i < n; ++i) explained[i] = fm.model[i] - fb.model[i];
         }
         // once mechanisms are added and the final residual passes the noise test, the rest is noise
         const bool restIsNoise = !explained.empty() && R.pNoiseFinal >= 1e-3;
@@ -1059,6 +1078,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     Json nd = Json::array();
     for (int c : R.nuisancesDropped) nd.push(compName(c));
     j.set("nuisances_dropped", nd);
+    if (opt.knownCompliance >= 0) j.set("instrument_compliance_ratio_calibrated", opt.knownCompliance);
     Json wins = Json::array();
     for (const auto& w : R.windows) wins.push(windowJson(w));
     j.set("windows", wins);
@@ -1167,6 +1187,9 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
        << proto.height << " m).\n\n";
     md << "## Verdict: **" << R.verdict << "**\n\n" << R.summary << "\n\n";
     md << "## In plain words\n\n";
+    if (opt.knownCompliance >= 0)
+        md << "The instrument compliance is taken as calibrated (ratio " << num(opt.knownCompliance, 3)
+           << ", from MODEL.json) and held there, not fitted.\n\n";
     if (R.verdict == "no_missing_physics") {
         md << "The baseline model (linear elastic loading, same curve on unloading";
         for (int c : R.nuisances) md << ", corrected for " << compName(c);

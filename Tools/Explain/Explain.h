@@ -22,10 +22,14 @@ struct ExplainOptions {
     double ambiguityMargin = 6;      ///< ΔBIC difference below which two mechanisms are "ambiguous"
     int maxMechanisms = 3;
     int folds = 4;                   ///< blocked cross-validation folds
-    bool forceBest = false;
+    bool forceBest = false;          ///< add the best candidate even if it fails (benchmark control)
     bool whitenedLikelihood = true;  ///< GLS likelihood (AR(1)+white innovations); false: plain residuals with n_eff
     double knownNoiseSigma = 0;      ///< >0: instrument noise sd (Pa) from MODEL.json, used instead of the
-                                     ///< estimate (sparse records, where differences see the misfit)          ///< add the best candidate even if it fails (benchmark control)
+                                     ///< estimate (sparse records, where differences see the misfit)
+    /// >= 0: the instrument compliance ratio kappa (instrument strain = kappa * stress / E) is known
+    /// from a calibration (MODEL.json "instrument_compliance_ratio"): held at that value, never fitted
+    /// (0: the instrument is rigid). < 0: unknown, tried as a nuisance.
+    double knownCompliance = -1;
 };
 
 /// Reads MODEL.json: {"driver": ..., "contact_law": ..., "baseline": [components always on],

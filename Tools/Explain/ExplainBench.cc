@@ -240,6 +240,15 @@ GeneratedCase generateCase(const CaseSpec& spec) {
         tr.set("primary_parameter", primaryName);
         tr.set("primary_value", primaryValue);
         tr.set("primary_off", primaryOff);
+        if (primaryName == M.defs()[pLambda].name) {
+            // a series instrument compliance kappa (strain kappa * stress / E) softens the loading
+            // branch to E / (1 + kappa) and the unloading branch to lambda E / (1 + lambda kappa): from
+            // one record with unknown kappa only the ratio of the two is identifiable
+            const double k = p[pKappa];
+            tr.set("primary_value_identifiable", primaryValue * (1 + k) / (1 + primaryValue * k));
+            tr.set("primary_identifiable_definition",
+                   "unload/load stiffness ratio seen through the instrument compliance: lambda (1 + kappa) / (1 + lambda kappa)");
+        }
     }
     tr.set("snr_peak", spec.snr);
     tr.set("snr_integrated", emx > 0 ? std::sqrt(e2 * nEff / double(n)) / sigma : 0.0);
@@ -285,6 +294,16 @@ GeneratedCase generateCase(const CaseSpec& spec) {
         for (std::size_t k = 0; k < phases.size(); ++k)
             for (std::size_t i = phases[k].begin; i < phases[k].end; ++i) en[k] += vis[i] * vis[i];
         const auto mark = selectMismatch(en);
+        {  // diagnostics for the scorer's reader: the noise-free baseline fit and each phase's energy
+            Json fbj = Json::object();
+            for (int c : {int(kBaseline), int(kCompliance), int(kDrift)})
+                for (int k : M.paramsOf(c)) fbj.set(M.defs()[k].name, fb.p[k]);
+            tr.set("visible_baseline_fit", fbj);
+            Json pe = Json::array();
+            for (std::size_t k = 0; k < phases.size(); ++k)
+                pe.push(Json::array({Json(R.t[phases[k].begin]), Json(R.t[phases[k].end - 1]), Json(en[k])}));
+            tr.set("visible_phase_energy_Pa2", pe);
+        }
         for (std::size_t k = 0; k < phases.size(); ++k)
             if (mark[k]) wj.push(Json::array({Json(R.t[phases[k].begin]), Json(R.t[phases[k].end - 1])}));
     }
@@ -369,6 +388,8 @@ CaseScore scoreCase(const Json& report, const Json& truth) {
             const Json* pj = m.at("parameters").find(pn);
             if (pj && m.at("name").asString() == tm.front().asString()) {
                 s.paramRelError = std::abs(pj->at("value").asNumber() - tv) / std::abs(tv - off);
+                const double ti = truth.has("primary_value_identifiable") ? truth.at("primary_value_identifiable").asNumber() : tv;
+                s.paramRelErrorIdentifiable = std::abs(pj->at("value").asNumber() - ti) / std::abs(ti - off);
                 const auto& ci = pj->at("ci95").asArray();
                 if (ci.size() == 2 && ci[0].isNumber() && ci[1].isNumber())
                     s.paramCovered = ci[0].asNumber() <= tv && tv <= ci[1].asNumber();

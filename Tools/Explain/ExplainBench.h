@@ -45,6 +45,7 @@ struct CaseScore {
     bool ambiguous = false;
     double iou = 0;
     double paramRelError = -1; ///< |estimate - truth| / |truth - off| of the primary parameter (-1: n/a)
+    double paramRelErrorIdentifiable = -1;  ///< the same against the value the record can identify (differs for plasticity)
     int paramCovered = -1;     ///< 1 if the reported 95 % interval of the primary parameter holds the truth (-1: n/a)
     double heldoutGain = 0;    ///< 1 - heldout_aug / heldout_base
     double heldoutExcessGain = 0;  ///< the same for the held-out error above the noise level (-1: n/a)
