@@ -58,7 +58,7 @@ std::vector<double> CsvTable::columnValues(const std::string& name) const {
     return v;
 }
 
-CsvTable parseCsv(const std::string& text, const std::string& source) {
+CsvTable parseCsv(const std::string& text, const std::string& source, bool labelColumn) {
     CsvTable t;
     t.source = source;
     bool haveHeader = false;
@@ -84,13 +84,23 @@ CsvTable parseCsv(const std::string& text, const std::string& source) {
                     if (cells[j] == cells[i])
                         throw InputError(where(source, lineNo) + "duplicate column name '" + cells[i] + "'");
             }
+            if (labelColumn) {
+                t.labelColumn = cells.front();
+                cells.erase(cells.begin());
+            }
             t.columns = std::move(cells);
             haveHeader = true;
             continue;
         }
-        if (cells.size() != t.columns.size())
-            throw InputError(where(source, lineNo) + "expected " + std::to_string(t.columns.size()) +
-                             " cells, found " + std::to_string(cells.size()));
+        const std::size_t expected = t.columns.size() + (labelColumn ? 1 : 0);
+        if (cells.size() != expected)
+            throw InputError(where(source, lineNo) + "expected " + std::to_string(expected) + " cells, found " +
+                             std::to_string(cells.size()));
+        if (labelColumn) {
+            if (cells.front().empty()) throw InputError(where(source, lineNo) + "empty " + t.labelColumn + " label");
+            t.labels.push_back(cells.front());
+            cells.erase(cells.begin());
+        }
         std::vector<double> row(cells.size());
         for (std::size_t i = 0; i < cells.size(); ++i) {
             if (!parseStrictDouble(cells[i], row[i])) {
@@ -109,7 +119,7 @@ CsvTable parseCsv(const std::string& text, const std::string& source) {
     return t;
 }
 
-CsvTable readCsv(const std::string& path) { return parseCsv(readWholeFile(path), path); }
+CsvTable readCsv(const std::string& path, bool labelColumn) { return parseCsv(readWholeFile(path), path, labelColumn); }
 
 void writeCsv(const std::string& path, const std::vector<std::string>& columns,
               const std::vector<std::vector<double>>& rows, const std::vector<std::string>& comments) {

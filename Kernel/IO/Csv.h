@@ -13,6 +13,9 @@ namespace pdpm {
 struct CsvTable {
     std::vector<std::string> columns;
     std::vector<std::vector<double>> rows;
+    /// Only when parsed with a label column: its header name (not in `columns`) and each row's label.
+    std::string labelColumn;
+    std::vector<std::string> labels;
     std::string source;  ///< file it was read from (for error messages); may be empty
 
     /// Index of the named column; throws InputError naming the file and the available columns if
@@ -23,10 +26,11 @@ struct CsvTable {
     std::vector<double> columnValues(const std::string& name) const;
 };
 
-/// Reads a file (InputError if missing or malformed).
-CsvTable readCsv(const std::string& path);
+/// Reads a file (InputError if missing or malformed). With `labelColumn` the first column holds a
+/// non-empty text label per row (e.g. a parameter name) and the other columns numbers.
+CsvTable readCsv(const std::string& path, bool labelColumn = false);
 /// Parses CSV text; `source` names it in error messages.
-CsvTable parseCsv(const std::string& text, const std::string& source);
+CsvTable parseCsv(const std::string& text, const std::string& source, bool labelColumn = false);
 
 /// Writes a table atomically (AtomicOFStream) with 17 significant digits, so that readCsv returns
 /// exactly the same numbers. Optional comment lines are written first, each prefixed by "# ".

@@ -41,6 +41,28 @@ TEST(Csv, ParsesCommentsBlankLinesAndSpaces) {
     EXPECT_THROW(t.column("w"), InputError);
 }
 
+TEST(Csv, LabelColumn) {
+    const auto t = parseCsv("# c\nparameter, a ,b\nbeta_s,1,2\ns_max , 3,4e-1\n", "t.csv", true);
+    EXPECT_EQ(t.labelColumn, "parameter");
+    ASSERT_EQ(t.columns, (std::vector<std::string>{"a", "b"}));
+    EXPECT_EQ(t.labels, (std::vector<std::string>{"beta_s", "s_max"}));
+    ASSERT_EQ(t.rows.size(), 2u);
+    EXPECT_EQ(t.rows[1], (std::vector<double>{3, 0.4}));
+    EXPECT_EQ(t.column("b"), 1);
+    for (const auto& [text, msg] : std::vector<std::pair<std::string, std::string>>{
+             {"p,a\n,1\n", "t.csv:2: empty p label"},
+             {"p,a\nx,1,2\n", "t.csv:2: expected 2 cells, found 3"},
+             {"p,a\nx,y\n", "t.csv:2: column 'a': 'y' is not a finite number"}}) {
+        try {
+            parseCsv(text, "t.csv", true);
+            ADD_FAILURE() << text;
+        } catch (const InputError& e) {
+            EXPECT_EQ(std::string(e.what()), msg);
+        }
+    }
+    EXPECT_THROW(parseCsv("p,a\nx,1\n", "t.csv"), InputError);  // without the option: 'x' is no number
+}
+
 TEST(Csv, HeaderOnlyIsEmptyTable) {
     const auto t = parseCsv("a,b\n", "t.csv");
     EXPECT_EQ(t.columns.size(), 2u);

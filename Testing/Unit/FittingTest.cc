@@ -146,7 +146,8 @@ TEST(Fitting, AnisotropyTableFile) {
                             "parameter,Q_max,Q_c,alpha\ns_dev_max,1,x,3\n",                              // number
                             "parameter,Q_max,Q_c,alpha\nbeta_x,1,2,3\n",                                 // name
                             "parameter,Q_max,Q_c,alpha\ns_dev_max,1,2,3,\n",                             // extra cell
-                            "parameter,Q_max,Q_c,alpha\ns_dev_max,1,2,3\nbeta_s,1,2,3\n"}) {           // rows missing
+                            "parameter,Q_max,Q_c,alpha\ns_dev_max,1,2,3\nbeta_s,1,2,3\n",             // rows missing
+                            "parameter,Q_max,Q_c,alpha\ns_dev_max,1,2,3\ns_dev_max,1,2,3\n"}) {     // given twice
         writeWholeFile(f, bad);
         EXPECT_THROW(readAnisotropyTable(f, 0.6653), InputError) << bad;
     }

@@ -670,8 +670,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             R.nuisances.erase(std::remove(R.nuisances.begin(), R.nuisances.end(), u), R.nuisances.end());
             R.nuisancesDropped.push_back(u);
         }
-        FitResult f = F.fit(on, {ch.p});
-        cur = f;
+        cur = F.fit(on, {ch.p});
         accepted.push_back(ch.comp);
         if (!ch.accepted) break;  // forced addition: stop
         if (ambiguous) break;
@@ -734,8 +733,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                         }
                     on = w.on;
                     syncNuisances();
-                    FitResult f = std::move(w.f);
-                    cur = f;
+                    cur = std::move(w.f);
                     accepted.erase(accepted.begin() + long(a));
                     dropped = true;
                     break;
@@ -756,7 +754,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                 const bool wasDropped = std::find(R.nuisancesDropped.begin(), R.nuisancesDropped.end(), u) !=
                                         R.nuisancesDropped.end();
                 on = on2;
-                cur = f;
+                cur = std::move(f);
                 if (wasDropped) {
                     syncNuisances();
                     for (auto& cd : R.candidates)

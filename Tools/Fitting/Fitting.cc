@@ -230,74 +230,56 @@ std::vector<double> column(const CsvTable& t, const std::vector<std::vector<doub
     return v;
 }
 
-std::vector<double> AnisotropyModel::predictS(const std::vector<double>& v, const std::vector<double>& eps,
-                                              double s0) const {
+namespace {
+/// Eq. 2.17/2.18 along a path with Eq. 2.20 coefficients: q(eps) = q_max(v) - (q_max(v) - q0) exp(-beta(v) eps).
+std::vector<double> predictAlong(const FitResult& qMax, const FitResult& beta, double vc, double vLo,
+                                 const std::vector<double>& v, const std::vector<double>& eps, double q0) {
     std::vector<double> out;
+    out.reserve(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) {
         const double vi = std::max(v[i], vLo);
-        const double sm = volumeDependenceModel(vi, sMax.value[0], sMax.value[1], sMax.value[2], vc);
-        const double b = volumeDependenceModel(vi, betaS.value[0], betaS.value[1], betaS.value[2], vc);
-        out.push_back(saturationModel(eps[i], sm, s0, b));
+        const double qm = volumeDependenceModel(vi, qMax.value[0], qMax.value[1], qMax.value[2], vc);
+        const double b = volumeDependenceModel(vi, beta.value[0], beta.value[1], beta.value[2], vc);
+        out.push_back(saturationModel(eps[i], qm, q0, b));
     }
     return out;
 }
+} // namespace
+
+std::vector<double> AnisotropyModel::predictS(const std::vector<double>& v, const std::vector<double>& eps,
+                                              double s0) const {
+    return predictAlong(sMax, betaS, vc, vLo, v, eps, s0);
+}
 std::vector<double> AnisotropyModel::predictF(const std::vector<double>& v, const std::vector<double>& eps,
                                               double f0) const {
-    std::vector<double> out;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        const double vi = std::max(v[i], vLo);
-        const double fm = volumeDependenceModel(vi, fMax.value[0], fMax.value[1], fMax.value[2], vc);
-        const double b = volumeDependenceModel(vi, betaF.value[0], betaF.value[1], betaF.value[2], vc);
-        out.push_back(saturationModel(eps[i], fm, f0, b));
-    }
-    return out;
+    return predictAlong(fMax, betaF, vc, vLo, v, eps, f0);
 }
 
 AnisotropyModel readAnisotropyTable(const std::string& path, double vc) {
     AnisotropyModel m;
     m.vc = vc;
-    const std::string text = readWholeFile(path);
-    std::istringstream is(text);
-    std::string line;
-    bool header = false;
-    int found = 0;
-    long lineNo = 0;
-    while (std::getline(is, line)) {
-        ++lineNo;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        if (line.empty() || line[0] == '#') continue;
-        if (line.back() == ',') inputError(path + ":" + std::to_string(lineNo) + ": empty last cell");
-        std::vector<std::string> cells;
-        std::stringstream ls(line);
-        std::string c;
-        while (std::getline(ls, c, ',')) cells.push_back(c);
-        const std::string where = path + ":" + std::to_string(lineNo) + ": ";
-        if (!header) {
-            if (cells != std::vector<std::string>{"parameter", "Q_max", "Q_c", "alpha"})
-                inputError(where + "expected the header parameter,Q_max,Q_c,alpha");
-            header = true;
-            continue;
-        }
-        if (cells.size() != 4) inputError(where + "expected 4 cells");
-        double q[3];
-        for (int k = 0; k < 3; ++k)
-            if (!parseStrictDouble(cells[std::size_t(k) + 1], q[k])) inputError(where + "'" + cells[std::size_t(k) + 1] + "' is not a number");
+    const CsvTable t = readCsv(path, true);
+    if (t.labelColumn != "parameter" || t.columns != std::vector<std::string>{"Q_max", "Q_c", "alpha"})
+        inputError(path + ": expected the header parameter,Q_max,Q_c,alpha");
+    for (std::size_t i = 0; i < t.rows.size(); ++i) {
+        const std::string& name = t.labels[i];
+        const auto& q = t.rows[i];
         FitResult r;
         r.names = {"Q_max", "Q_v", "alpha"};
         r.value = {q[0], q[1] - q[0], q[2]};  // Eq. 2.20 with Q_v = Q_c - Q_max
         r.stderror = {0, 0, 0};
         r.fixed = {true, true, true};
-        FitResult* dst = cells[0] == "s_dev_max" ? &m.sMax
-                         : cells[0] == "beta_s"  ? &m.betaS
-                         : cells[0] == "F_dev_max" ? &m.fMax
-                         : cells[0] == "beta_F"  ? &m.betaF
-                                                 : nullptr;
-        if (!dst) inputError(where + "unknown parameter '" + cells[0] + "' (s_dev_max, beta_s, F_dev_max, beta_F)");
-        if (!dst->value.empty()) inputError(where + "parameter '" + cells[0] + "' given twice");
+        FitResult* dst = name == "s_dev_max" ? &m.sMax
+                         : name == "beta_s"  ? &m.betaS
+                         : name == "F_dev_max" ? &m.fMax
+                         : name == "beta_F"  ? &m.betaF
+                                             : nullptr;
+        if (!dst) inputError(path + ": unknown parameter '" + name + "' (s_dev_max, beta_s, F_dev_max, beta_F)");
+        if (!dst->value.empty()) inputError(path + ": parameter '" + name + "' given twice");
         *dst = r;
-        ++found;
     }
-    if (found != 4) inputError(path + ": needs the rows s_dev_max, beta_s, F_dev_max and beta_F");
+    if (m.sMax.value.empty() || m.betaS.value.empty() || m.fMax.value.empty() || m.betaF.value.empty())
+        inputError(path + ": needs the rows s_dev_max, beta_s, F_dev_max and beta_F");
     return m;
 }
 
