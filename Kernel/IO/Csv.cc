@@ -97,7 +97,7 @@ CsvTable parseCsv(const std::string& text, const std::string& source, bool label
             throw InputError(where(source, lineNo) + "expected " + std::to_string(expected) + " cells, found " +
                              std::to_string(cells.size()));
         if (labelColumn) {
-            if (cells.front().empty()) throw InputError(where(source, lineNo) + "empty " + t.labelColumn + " label");
+            if (cells.front().empty()) throw InputError(where(source, lineNo) + "empty label in column '" + t.labelColumn + "'");
             t.labels.push_back(cells.front());
             cells.erase(cells.begin());
         }
@@ -114,6 +114,7 @@ CsvTable parseCsv(const std::string& text, const std::string& source, bool label
             }
         }
         t.rows.push_back(std::move(row));
+        t.rowLines.push_back(lineNo);
     }
     if (!haveHeader) throw InputError((source.empty() ? std::string("<csv>") : source) + ": no header line");
     return t;

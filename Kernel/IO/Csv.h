@@ -16,6 +16,7 @@ struct CsvTable {
     /// Only when parsed with a label column: its header name (not in `columns`) and each row's label.
     std::string labelColumn;
     std::vector<std::string> labels;
+    std::vector<long> rowLines;  ///< line number (1-based) of each row in the source, for messages
     std::string source;  ///< file it was read from (for error messages); may be empty
 
     /// Index of the named column; throws InputError naming the file and the available columns if

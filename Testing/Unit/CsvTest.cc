@@ -49,8 +49,9 @@ TEST(Csv, LabelColumn) {
     ASSERT_EQ(t.rows.size(), 2u);
     EXPECT_EQ(t.rows[1], (std::vector<double>{3, 0.4}));
     EXPECT_EQ(t.column("b"), 1);
+    EXPECT_EQ(t.rowLines, (std::vector<long>{3, 4}));
     for (const auto& [text, msg] : std::vector<std::pair<std::string, std::string>>{
-             {"p,a\n,1\n", "t.csv:2: empty p label"},
+             {"p,a\n,1\n", "t.csv:2: empty label in column 'p'"},
              {"p,a\nx,1,2\n", "t.csv:2: expected 2 cells, found 3"},
              {"p,a\nx,y\n", "t.csv:2: column 'a': 'y' is not a finite number"}}) {
         try {

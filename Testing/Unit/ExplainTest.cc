@@ -519,11 +519,25 @@ TEST(ExplainCalibratedCompliance, ModelFileRange) {
     const std::string d = tmp.str();
     ExplainOptions o;
     for (const char* bad : {R"({"instrument_compliance_ratio": -0.01})", R"({"instrument_compliance_ratio": 0.5})",
-                            R"({"instrument_compliance_ratio": "x"})"}) {
+                            R"({"instrument_compliance_ratio": "x"})", R"({"instrument_compliance": 0.04})",
+                            R"({"baseline": ["instrument_compliance"], "instrument_compliance_ratio": 0.04})",
+                            R"({"nuisances": ["instrument_compliance"], "instrument_compliance_ratio": 0.04})"}) {
+        ExplainOptions o2;
         writeWholeFile(d + "/m.json", bad);
-        EXPECT_THROW(readModelFile(d + "/m.json", o), InputError) << bad;
+        EXPECT_THROW(readModelFile(d + "/m.json", o2), InputError) << bad;
+        EXPECT_EQ(o2.knownCompliance, -1) << "nothing half-applied: " << bad;
     }
     writeWholeFile(d + "/m.json", R"({"instrument_compliance_ratio": 0.04})");
     readModelFile(d + "/m.json", o);
     EXPECT_EQ(o.knownCompliance, 0.04);
+    // a rigid instrument (0): no compliance term at all, and none tried as a nuisance
+    const GeneratedCase g = generateCase({"null", 0, 0.0, 404, 1500});
+    ExplainOptions rigid;
+    rigid.figures = false;
+    rigid.knownCompliance = 0;
+    const ExplainResult r = pdpm::explain::explain(g.rec, g.proto, rigid);
+    EXPECT_EQ(r.heldParam, pKappa);
+    EXPECT_EQ(r.onFinal[kCompliance], 0);
+    for (int c : r.nuisances) EXPECT_NE(c, kCompliance);
+    for (const auto& cd : r.candidates) EXPECT_NE(cd.comp, kCompliance);
 }

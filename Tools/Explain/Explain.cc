@@ -29,11 +29,7 @@ double rmsOf(const std::vector<double>& a, const std::vector<double>& b) {
     return std::sqrt(s / double(std::max<std::size_t>(1, a.size())));
 }
 
-namespace {
-
-/// Free parameters of the components switched on; `fixed` (a parameter index, or -1) is held, e.g. a
-/// calibrated instrument compliance.
-std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on, int fixed = -1) {
+std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on, int fixed) {
     std::vector<int> fr;
     for (int c = 0; c < kNumComp; ++c)
         if (on[c] || c == kBaseline)
@@ -41,6 +37,8 @@ std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on, int 
                 if (k != fixed) fr.push_back(k);
     return fr;
 }
+
+namespace {
 
 /// A small "on" value of each component's parameters, for templates and start points.
 std::vector<std::vector<double>> startsFor(const Model& m, int c, const std::vector<double>& p) {
@@ -345,6 +343,12 @@ std::string separatingExperiment(int a, int b) {
 void readModelFile(const std::string& path, ExplainOptions& opt) {
     const Json j = readJsonFile(path);
     if (!j.isObject()) inputError(path + ": the model file must be a JSON object");
+    static const char* const known[] = {"baseline", "candidates", "nuisances", "noise_sigma_Pa", "bic_threshold",
+                                        "instrument_compliance_ratio"};
+    for (const auto& member : j.asObject(path))
+        if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return member.first == k; }) == std::end(known))
+            inputError(path + ": unknown key '" + member.first + "' (known: baseline, candidates, nuisances, noise_sigma_Pa, "
+                       "bic_threshold, instrument_compliance_ratio)");
     auto names = [&](const char* key, std::vector<int>& out, bool mechOnly) {
         const Json* a = j.find(key);
         if (!a) return;
@@ -363,17 +367,24 @@ void readModelFile(const std::string& path, ExplainOptions& opt) {
     for (int c : opt.nuisances)
         if (!isNuisance(c)) inputError(path + ": nuisances: '" + std::string(compName(c)) + "' is not a nuisance");
     if (const Json* t = j.find("noise_sigma_Pa")) {
-        opt.knownNoiseSigma = t->asNumber(path + ": noise_sigma_Pa");
-        if (!(opt.knownNoiseSigma > 0)) inputError(path + ": noise_sigma_Pa must be > 0");
+        const double v = t->asNumber(path + ": noise_sigma_Pa");
+        if (!(v > 0)) inputError(path + ": noise_sigma_Pa must be > 0");
+        opt.knownNoiseSigma = v;
     }
     if (const Json* t = j.find("instrument_compliance_ratio")) {
-        opt.knownCompliance = t->asNumber(path + ": instrument_compliance_ratio");
-        if (!(opt.knownCompliance >= 0 && opt.knownCompliance <= 0.3))
+        const double v = t->asNumber(path + ": instrument_compliance_ratio");
+        if (!(v >= 0 && v <= 0.3))
             inputError(path + ": instrument_compliance_ratio must be in [0, 0.3] (instrument strain = ratio * stress / E)");
+        for (const auto* list : {&opt.baselineComps, &opt.nuisances})
+            if (std::find(list->begin(), list->end(), int(kCompliance)) != list->end())
+                inputError(path + ": instrument_compliance_ratio gives the compliance; do not also list instrument_compliance in " +
+                           (list == &opt.baselineComps ? "baseline" : "nuisances"));
+        opt.knownCompliance = v;
     }
     if (const Json* t = j.find("bic_threshold")) {
-        opt.bicThreshold = t->asNumber(path + ": bic_threshold");
-        if (!(opt.bicThreshold >= 2)) inputError(path + ": bic_threshold must be >= 2");
+        const double v = t->asNumber(path + ": bic_threshold");
+        if (!(v >= 2)) inputError(path + ": bic_threshold must be >= 2");
+        opt.bicThreshold = v;
     }
 }
 
@@ -393,6 +404,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     std::vector<char> on(kNumComp, 0);
     on[kBaseline] = 1;
     for (int c : opt.baselineComps) on[c] = 1;
+    if (opt.knownCompliance >= 0) on[kCompliance] = opt.knownCompliance > 0;  // calibrated: held (0: rigid)
     std::vector<double> p0 = M.defaults();
     {  // linear regression on the virgin loading samples for E and eps0
         double emax = -1e300, sx = 0, sy = 0, sxx = 0, sxy = 0, cnt = 0;
@@ -413,14 +425,15 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         }
     }
     Fitter F{M, y, 1.0};
-    if (opt.knownCompliance > 0) {  // calibrated instrument: the compliance is part of the baseline, held
-        on[kCompliance] = 1;
+    if (opt.knownCompliance >= 0) {  // calibrated instrument: the compliance is part of the baseline, held
         p0[pKappa] = opt.knownCompliance;
         F.alwaysFixed = pKappa;
+        R.heldParam = pKappa;
     }
     std::vector<std::vector<double>> baseStarts = {p0};
     for (int c : opt.baselineComps)
-        for (auto& s : startsFor(M, c, p0)) baseStarts.push_back(s);
+        if (!(c == kCompliance && opt.knownCompliance >= 0))
+            for (auto& s : startsFor(M, c, p0)) baseStarts.push_back(s);
     FitResult cur = F.fit(on, baseStarts);
     const std::vector<int> noiseSeg = noiseSegments(rec.t, rec.strain);
     NoiseModel nm = estimateNoise([&] {
@@ -811,7 +824,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         // imitate, whichever nuisances the selection kept. (With only the selected nuisances, a
         // nuisance dropped for a mechanism put its own shape into the difference, and a nuisance
         // never selected left part of what it could absorb to be located as mismatch.)
-        std::vector<double> explained;
+        std::vector<double> explained, resid = r0;
         if (!accepted.empty() && !opt.forceBest) {
             std::vector<char> onB = R.onBaseline, onM = on;
             for (int u : nuis) onB[u] = onM[u] = 1;
@@ -826,11 +839,14 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             stM.push_back(fb.p);
             const FitResult fm = F.fit(onM, stM);
             explained.resize(n);
-            for (std::size_t i = 0; i < n; ++i) explained[i] = fm.model[i] - fb.model[i];
+            for (std::size_t i = 0; i < n; ++i) {
+                explained[i] = fm.model[i] - fb.model[i];
+                resid[i] = y[i] - fb.model[i];  // the same reference for the rest: resid - explained = y - fm
+            }
         }
         // once mechanisms are added and the final residual passes the noise test, the rest is noise
         const bool restIsNoise = !explained.empty() && R.pNoiseFinal >= 1e-3;
-        R.windows = locate(rec, r0, nm, R.phaseOfSample, explained, restIsNoise);
+        R.windows = locate(rec, resid, nm, R.phaseOfSample, explained, restIsNoise);
     }
     const double excess = rssBase - double(n) * sigma2;
     double rssFinal = 0;
@@ -1185,9 +1201,11 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
        << proto.height << " m).\n\n";
     md << "## Verdict: **" << R.verdict << "**\n\n" << R.summary << "\n\n";
     md << "## In plain words\n\n";
-    if (opt.knownCompliance >= 0)
+    if (opt.knownCompliance > 0)
         md << "The instrument compliance is taken as calibrated (ratio " << num(opt.knownCompliance, 3)
            << ", from MODEL.json) and held there, not fitted.\n\n";
+    else if (opt.knownCompliance == 0)
+        md << "The instrument is taken as rigid (MODEL.json: instrument_compliance_ratio 0): no compliance term.\n\n";
     if (R.verdict == "no_missing_physics") {
         md << "The baseline model (linear elastic loading, same curve on unloading";
         for (int c : R.nuisances) md << ", corrected for " << compName(c);

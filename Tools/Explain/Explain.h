@@ -32,8 +32,9 @@ struct ExplainOptions {
     double knownCompliance = -1;
 };
 
-/// Reads MODEL.json: {"driver": ..., "contact_law": ..., "baseline": [components always on],
-/// "candidates": [mechanism names], "nuisances": [...], "parameters": {...}} (all optional).
+/// Reads MODEL.json: {"baseline": [components always on], "candidates": [mechanism names],
+/// "nuisances": [...], "noise_sigma_Pa": x, "bic_threshold": x, "instrument_compliance_ratio": x}
+/// (all optional). Unknown keys, names and out-of-range values: InputError (exit 2).
 void readModelFile(const std::string& path, ExplainOptions& opt);
 
 struct Candidate {
@@ -94,6 +95,7 @@ struct ExplainResult {
     double minDetectableRms = 0;  ///< smallest RMS effect (Pa) the data could reveal
     std::vector<double> pBaseline, pFinal;
     std::vector<char> onBaseline, onFinal;
+    int heldParam = -1;  ///< parameter held in every fit (the calibrated compliance), or -1
     std::vector<double> yBaseline, yFinal;  ///< model predictions
     std::vector<Phase> phaseOfSample;
 };
@@ -111,6 +113,10 @@ int runExplainCommand(const std::vector<std::string>& args);
 /// `relative` times the largest part's excess and at least `minShare` of the total. Used by the
 /// explainer (estimated excess) and by the benchmark truth (noise-free visible effect).
 std::vector<char> selectMismatch(const std::vector<double>& excess, double relative = 0.3, double minShare = 0.05);
+
+/// Free parameters of the components switched on in `on` (the baseline always); `fixed` (a parameter
+/// index, or -1) is held, e.g. a calibrated instrument compliance.
+std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on, int fixed = -1);
 
 /// report.json pieces: a mechanism's parameters ({name: {value, ci95, unit}}) and one window.
 Json parametersJson(const MechanismResult& m, const std::vector<ParDef>& defs);

@@ -3,6 +3,7 @@
 // truth and writes summary.md, summary.json and power.csv.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -104,6 +105,8 @@ int main(int argc, char** argv) {
                     Json mj = Json::object();
                     mj.set("instrument_compliance_ratio", g.truth.at("baseline_and_nuisances").at("compliance_ratio").asNumber());
                     writeJsonFile(cdir + "/model.json", mj);
+                } else {
+                    std::remove((cdir + "/model.json").c_str());  // left by an earlier calibrated run into this folder
                 }
                 // the explainer sees only the case directory
                 const Protocol proto = readProtocol(cdir + "/protocol.json");
@@ -227,7 +230,8 @@ int main(int argc, char** argv) {
             md << " |\n";
         }
         if (pairs > 0)
-            md << "\n" << pairBenchmark(pairs, mechs, pairSnrs, samples,
+            md << "\n" << (calibrated ? "(The pairs below are blind: --calibrated_compliance applies to the single cases only.)\n" : "")
+               << pairBenchmark(pairs, mechs, pairSnrs, samples,
                                         (unsigned long)seed);
         writeWholeFile(out + "/summary.md", md.str());
         std::ostringstream pc;

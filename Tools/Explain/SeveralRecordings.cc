@@ -19,9 +19,7 @@ namespace {
 FitResult fitDevice(const Model& M, const Recording& rec, const ExplainResult& own, const std::vector<char>& on,
                     const std::vector<std::vector<double>>& starts) {
     FitOptions fo;
-    for (int c = 0; c < kNumComp; ++c)
-        if (c == kBaseline || own.onBaseline[c])
-            for (int k : M.paramsOf(c)) fo.freeParams.push_back(k);
+    fo.freeParams = freeParamsFor(M, own.onBaseline, own.heldParam);  // a calibrated compliance stays held
     fo.whitener = own.noise.whitener();
     FitResult best;
     best.rss = -1;

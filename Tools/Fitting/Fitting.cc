@@ -5,11 +5,8 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <sstream>
 
 #include "Core/Error.h"
-#include "Core/Parameters.h"
-#include "IO/AtomicFile.h"
 
 namespace pdpm {
 
@@ -263,6 +260,7 @@ AnisotropyModel readAnisotropyTable(const std::string& path, double vc) {
         inputError(path + ": expected the header parameter,Q_max,Q_c,alpha");
     for (std::size_t i = 0; i < t.rows.size(); ++i) {
         const std::string& name = t.labels[i];
+        const std::string where = path + ":" + std::to_string(t.rowLines[i]) + ": ";
         const auto& q = t.rows[i];
         FitResult r;
         r.names = {"Q_max", "Q_v", "alpha"};
@@ -274,8 +272,8 @@ AnisotropyModel readAnisotropyTable(const std::string& path, double vc) {
                          : name == "F_dev_max" ? &m.fMax
                          : name == "beta_F"  ? &m.betaF
                                              : nullptr;
-        if (!dst) inputError(path + ": unknown parameter '" + name + "' (s_dev_max, beta_s, F_dev_max, beta_F)");
-        if (!dst->value.empty()) inputError(path + ": parameter '" + name + "' given twice");
+        if (!dst) inputError(where + "unknown parameter '" + name + "' (s_dev_max, beta_s, F_dev_max, beta_F)");
+        if (!dst->value.empty()) inputError(where + "parameter '" + name + "' given twice");
         *dst = r;
     }
     if (m.sMax.value.empty() || m.betaS.value.empty() || m.fMax.value.empty() || m.betaF.value.empty())
