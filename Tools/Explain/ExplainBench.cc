@@ -268,8 +268,7 @@ GeneratedCase generateCase(const CaseSpec& spec) {
         std::vector<char> onB(kNumComp, 0);
         onB[kBaseline] = onB[kCompliance] = onB[kDrift] = 1;
         FitOptions fo;
-        for (int c : {int(kBaseline), int(kCompliance), int(kDrift)})
-            for (int k : M.paramsOf(c)) fo.freeParams.push_back(k);
+        fo.freeParams = freeParamsFor(M, onB);
         std::vector<double> start = p;
         for (int c = kRelaxation; c < kNumComp; ++c)
             for (int k : M.paramsOf(c))
@@ -296,8 +295,7 @@ GeneratedCase generateCase(const CaseSpec& spec) {
         const auto mark = selectMismatch(en);
         {  // diagnostics for the scorer's reader: the noise-free baseline fit and each phase's energy
             Json fbj = Json::object();
-            for (int c : {int(kBaseline), int(kCompliance), int(kDrift)})
-                for (int k : M.paramsOf(c)) fbj.set(M.defs()[k].name, fb.p[k]);
+            for (int k : fo.freeParams) fbj.set(M.defs()[k].name, fb.p[k]);
             tr.set("visible_baseline_fit", fbj);
             Json pe = Json::array();
             for (std::size_t k = 0; k < phases.size(); ++k)
