@@ -540,4 +540,10 @@ TEST(ExplainCalibratedCompliance, ModelFileRange) {
     EXPECT_EQ(r.onFinal[kCompliance], 0);
     for (int c : r.nuisances) EXPECT_NE(c, kCompliance);
     for (const auto& cd : r.candidates) EXPECT_NE(cd.comp, kCompliance);
+    // nor is it profiled for the parameter intervals (blind, lambda's interval is widened by it)
+    const GeneratedCase gp = generateCase({"plasticity", 20, 0.0, 401, 1500});
+    const ExplainResult rp = pdpm::explain::explain(gp.rec, gp.proto, rigid);
+    ASSERT_FALSE(rp.mechanisms.empty());
+    for (const auto& m : rp.mechanisms)
+        for (const auto& w : m.widenedBy) EXPECT_NE(w, "instrument_compliance");
 }
