@@ -45,7 +45,7 @@ public:
         p.add("protocol", &protocolPreset_, 0, "-", "Table 4.3 protocol 1-9 (0: use --steps or --protocol_file)", Range::closed(0, 9));
         p.add("protocol_file", &protocolFile_, "", "JSON protocol file (recording format); overrides --steps");
         p.add("max_stress", &maxStress_, 25e3, "Pa", "cap of the preset target stresses (FT4: 22 kPa)", Range::positive());
-        p.add("stress_scale", &stressScale_, 1, "-", "multiplies preset target stresses (small tests)", Range::positive());
+        p.add("stress_scale", &stressScale_, 1, "-", "multiplies the protocol's target stresses (preset, --steps or --protocol_file; small tests, or a lab protocol brought into the material's stress range)", Range::positive());
         p.add("hold_clock", &holdClock_, "log", "lab clock of holds: log (lab time grows exponentially, S = (t0 + t)/hold_tau) or linear (S = time_scale)", {"log", "linear"});
         p.add("hold_tau", &holdTau_, 0.02, "s", "log hold clock: DEM seconds per e-fold of (relax_t0 + lab time in the hold)", Range::positive());
         p.add("hold_settle", &holdSettle_, 1e-4, "-", "a hold's lab clock runs only while E_k/E_p <= this: it starts after the bed settles and pauses during rearrangement events (mechanical motion is instantaneous in lab time; 0: never waits)", Range::nonNegative());
@@ -85,8 +85,12 @@ protected:
     void loadProtocol() {
         if (protocolPreset_ > 0 && !protocolFile_.empty()) inputError("--protocol and --protocol_file are exclusive");
         if (!protocolFile_.empty()) steps_ = recording::readProtocol(protocolFile_).steps;
-        else if (protocolPreset_ > 0) steps_ = recording::presetSteps(protocolPreset_, maxStress_, stressScale_);
+        else if (protocolPreset_ > 0) steps_ = recording::presetSteps(protocolPreset_, maxStress_);
         else steps_ = recording::parseSteps(stepsText_);
+        for (recording::Step& st : steps_) {
+            st.targetStress *= stressScale_;
+            if (st.stress > 0) st.stress *= stressScale_;  // creep at a given stress (negative: the stress reached)
+        }
     }
     void installPistonMotion() {
         const double z0 = pistonZ0_;

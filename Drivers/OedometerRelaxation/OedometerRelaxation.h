@@ -37,6 +37,8 @@ public:
         p.add("fill_height_m", &fillHeightM_, 0, "m", "height of the levelled bed in metres (0: use fill_height)", Range::nonNegative());
         p.add("wall_friction", &muWall_, 0.2, "-", "wall friction mu_w (bottom, piston, mould)", Range::nonNegative());
         p.add("material", &material_, "cocoa", "material preset", {"cocoa", "frictional"});
+        p.add("k_over_k1", &kOverK1_, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
+        p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
         p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());
         p.add("pour_drag_time", &pourDragTime_, 0.1, "s", "drag time of the particles falling while filling (mass-proportional drag; terminal speed g x this)", Range::positive());
         p.add("dt_fraction", &dtFraction_, 25, "-", "time step = t_c / dt_fraction", Range::atLeast(10));
@@ -206,6 +208,12 @@ private:
     /// Material preset from the parameters (also after a restart).
     void loadMaterial() {
         mat_ = oedometerMaterial(material_, muWall_);
+        if (kOverK1_ > 0) {
+            if (kOverK1_ < 1) inputError("--k_over_k1: expected 0 (the material's value) or at least 1 (k1 <= k), got " + fmt(kOverK1_));
+            mat_.pp.k1 = mat_.pw.k1 = mat_.pp.k / kOverK1_;
+        }
+        if (kcOverK_ >= 0) mat_.pp.kc = kcOverK_ * mat_.pp.k;  // particle-wall contacts stay non-adhesive
+        else if (kcOverK_ != -1) inputError("--kc_over_k: expected -1 (the material's value) or a value >= 0, got " + fmt(kcOverK_));
         mat_.dMean = dMean_;
         grainDensity_ = mat_.density;
         grainSize_ = dMean_;
@@ -226,7 +234,7 @@ private:
 
     std::string geometry_, device_, material_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0;
-    double pourDragTime_ = 0.1, dtFraction_ = 25;
+    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1;
     bool gravityOn_ = true;
     OedometerMaterial mat_;
     long mouldWall_ = -1;

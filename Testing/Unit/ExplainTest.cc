@@ -5,8 +5,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <limits>
 #include <random>
+#include <sstream>
 
 #include "Core/Error.h"
 #include "DemConfirmation.h"
@@ -148,6 +150,44 @@ TEST(ExplainLocate, SelectMismatchTakesComparableParts) {
     EXPECT_EQ(std::vector<char>(m.begin(), m.end()), (std::vector<char>{1, 1, 1, 0, 0}));
     const auto z = selectMismatch({0, 0});
     EXPECT_EQ(std::vector<char>(z.begin(), z.end()), (std::vector<char>{0, 0}));
+}
+
+// Long holds and fast ramps (ramps 3 % of 2001 samples, as in the DEM-made cases): the 95th percentile
+// of |rate| falls in a hold, where the smoothed rate is round-off (1e-30); the threshold must come
+// from the moving samples, or a hold next to two ramps is taken for loading (found 2026-12-02).
+TEST(ExplainPhases, ShortRampsBetweenLongHolds) {
+    std::vector<double> t, e;
+    auto next = [&] {  // a DEM case's grid, as read back from its CSV (12 significant digits)
+        std::ostringstream os;
+        os << std::setprecision(12) << 652.8468017801786 * static_cast<double>(t.size()) / 1999;
+        return std::stod(os.str());
+    };
+    double strain = 0;
+    for (double hold : {0.036329, 0.0524865, 0.0684588}) {  // the hold strains of that case, as read from its CSV
+        const double from = strain;
+        for (int i = 1; i <= 20; ++i) t.push_back(next()), e.push_back(from + (hold - from) * i / 20);  // ramp
+        for (int i = 0; i < 647; ++i) t.push_back(next()), e.push_back(hold);
+        strain = hold;
+    }
+    const auto ph = detectPhases(t, e);
+    std::vector<Phase> kinds;
+    for (const auto& p : ph) kinds.push_back(p.phase);
+    ASSERT_EQ(kinds.size(), 6u);
+    for (std::size_t k = 0; k < kinds.size(); ++k) EXPECT_EQ(kinds[k], k % 2 ? Phase::Hold : Phase::Load) << k;
+    EXPECT_GE(ph[3].end - ph[3].begin, 640u) << "the second hold is one hold";
+
+    // ... while a glitch in the strain (one sample of the wrong sign, as in KFS OE4) must not set the
+    // scale: a load - unload - reload record without holds keeps its unload
+    std::vector<double> t2, e2;
+    for (int i = 0; i <= 80; ++i) {
+        t2.push_back(i);
+        e2.push_back(i <= 28 ? 0.001 * i : i <= 55 ? 0.028 - 0.0002 * (i - 28) : 0.0226 + 0.0003 * (i - 55));
+    }
+    e2[55] = -0.02;
+    bool hold = false, unload = false;
+    for (const auto& p : detectPhases(t2, e2)) hold |= p.phase == Phase::Hold, unload |= p.phase == Phase::Unload && p.end - p.begin > 20;
+    EXPECT_FALSE(hold);
+    EXPECT_TRUE(unload);
 }
 
 TEST(ExplainFit, RecoversRelaxationParametersFromCleanData) {
@@ -411,16 +451,143 @@ TEST(ExplainCommand, DemConfirmationStatusWithoutRuns) {
     Recording rec;
     DemOptions opt;
     EXPECT_EQ(confirmWithDem(none, rec, "p.json", opt, "unused").status, "not_needed");
+    ExplainResult coh;
+    coh.mechanisms.push_back(MechanismResult{});
+    coh.mechanisms.back().comp = kCohesion;
+    EXPECT_EQ(confirmWithDem(coh, rec, "p.json", opt, "unused").status, "not_supported");
     ExplainResult plast;
     plast.mechanisms.push_back(MechanismResult{});
     plast.mechanisms.back().comp = kPlasticity;
-    EXPECT_EQ(confirmWithDem(plast, rec, "p.json", opt, "unused").status, "not_supported");
+    opt.driver = "/nonexistent/OedometerRelaxation";
+    EXPECT_EQ(confirmWithDem(plast, rec, "p.json", opt, "unused").status, "not_run") << "no driver";
     opt.mode = "off";
     EXPECT_EQ(confirmWithDem(plast, rec, "p.json", opt, "unused").status, "not_run");
     const pdpm::testing::TempDir tmp;
     EXPECT_EQ(runExplainCommand({"--recording", tmp.str() + "/r.csv", "--protocol", tmp.str() + "/p.json", "--output",
                                  tmp.str() + "/o", "--dem", "sometimes"}),
               2);
+}
+
+namespace {
+/// Load to strain eMax (stress E e), unload lambda times stiffer to zero stress, reload along the same
+/// branch and load on past eMax to 1.25 eMax: the linear elastic-plastic record, n samples per branch.
+void elasticPlasticRecord(double E, double eMax, double lambda, int n, std::vector<double>& e, std::vector<double>& s) {
+    const double eZero = eMax - eMax / lambda;  // strain left at zero stress
+    for (int i = 0; i <= n; ++i) e.push_back(eMax * i / n), s.push_back(E * e.back());
+    for (int i = 1; i <= n; ++i) e.push_back(eMax - (eMax - eZero) * i / n), s.push_back(E * eMax - lambda * E * (eMax - e.back()));
+    for (int i = 1; i <= n; ++i) e.push_back(eZero + (eMax - eZero) * i / n), s.push_back(E * eMax - lambda * E * (eMax - e.back()));
+    for (int i = 1; i <= n / 2; ++i) e.push_back(eMax * (1 + 0.5 * i / n)), s.push_back(E * e.back());
+}
+} // namespace
+
+// The plasticity DEM confirmation against a stand-in driver (a shell script) whose "DEM" record is
+// the linear elastic-plastic curve with the bulk unloading ratio 1 + 0.8 (k/k1 - 1), at another
+// stiffness and stress scale than the lab record: the branches are compared in units of their start
+// stress and loading stiffness, the second run's k/k1 comes from the secant through the baseline and
+// the first run, and the held-out reload branch is matched.
+TEST(ExplainCommand, DemConfirmationPlasticityCalibratesTheUnloadRatio) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    writeWholeFile(dir + "/driver.sh", R"(#!/bin/sh
+out= name= ratio= scale=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --output) out=$2; shift;; --name) name=$2; shift;; --k_over_k1) ratio=$2; shift;; --stress_scale) scale=$2; shift;;
+    --relax_C|--kc_over_k|--protocol_file|--threads) shift;;
+  esac; shift
+done
+echo "$ratio $scale" >> "$out/calls.txt"
+awk -v r="$ratio" -v sc="$scale" 'BEGIN {
+  lam = 1 + 0.8 * (r - 1); E = 1e6 * sc; em = 0.02; ez = em - em / lam; n = 200; t = 0
+  print "time_s,axial_strain,axial_stress_Pa"
+  for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
+  for (i = 1; i <= n; i++) { e = em - (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
+  for (i = 1; i <= n; i++) { e = ez + (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
+  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
+}' > "$out/$name.recording.csv"
+)");
+    std::filesystem::permissions(dir + "/driver.sh", std::filesystem::perms::owner_all);
+    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
+ "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 0},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 500000}]})");
+    Recording rec;
+    elasticPlasticRecord(5e7, 0.008, 4.0, 40, rec.strain, rec.stress);
+    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
+    ExplainResult r;
+    MechanismResult m;
+    m.comp = kPlasticity;
+    m.params = {pLambda};
+    m.value = {4.0};  // the surrogate's value; the stand-in's bulk ratio at k/k1 = 4 is 3.4
+    r.mechanisms.push_back(m);
+    DemOptions opt;
+    opt.driver = dir + "/driver.sh";
+    std::filesystem::create_directories(dir + "/dem");
+    const DemResult d = confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+    ASSERT_EQ(d.status, "done") << d.reason;
+    EXPECT_EQ(d.mechanism, "plasticity");
+    EXPECT_EQ(d.calibrationHolds, 1);  // the unload branch
+    EXPECT_EQ(d.heldoutHolds, 1);      // the reload branch
+    EXPECT_NEAR(d.stressScale, 20e3 / 500e3, 1e-12);
+    EXPECT_NEAR(d.labMacro, 4.0, 0.02);
+    ASSERT_EQ(d.runs.size(), 3u);
+    EXPECT_EQ(d.runs[0].kOverK1, 1.0);
+    EXPECT_EQ(d.runs[1].kOverK1, 4.0);
+    EXPECT_NEAR(d.runs[0].macro, 1.0, 0.01);
+    EXPECT_NEAR(d.runs[1].macro, 3.4, 0.02);
+    EXPECT_NEAR(d.runs[2].kOverK1, 1 + 3.0 * 3.0 / 2.4, 0.05) << "secant aimed at the lab ratio 4";
+    EXPECT_NEAR(d.runs[2].macro, 4.0, 0.03);
+    EXPECT_EQ(d.chosen, 2);
+    EXPECT_GT(d.heldoutBaseline, 0.0);
+    EXPECT_LT(d.heldoutAugmented, 0.02 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
+    EXPECT_EQ(readWholeFile(dir + "/dem/calls.txt").substr(0, 6), "1 0.04");
+    const Json j = demJson(d);
+    EXPECT_EQ(j.at("chosen_run").asString(), "dem_plastic_b");
+    EXPECT_TRUE(j.has("heldout_branches"));
+    EXPECT_EQ(j.at("runs").asArray("runs").size(), 3u);
+    EXPECT_NE(demMarkdown(d).find("plastic contacts"), std::string::npos);
+    // the compared samples: 41 unload + 40 reload samples of the lab record, each run's prediction
+    const std::string cmp = readWholeFile(dir + "/dem/comparison.csv");
+    EXPECT_EQ(cmp.substr(0, cmp.find('\n')), "item,role,axial_strain,lab_stress_Pa,dem_baseline_Pa,dem_plastic_a_Pa,dem_plastic_b_Pa");
+    const long rows = std::count(cmp.begin(), cmp.end(), '\n') - 1;
+    EXPECT_GE(rows, 75);  // the phase detector gives the turning points to either side
+    EXPECT_LE(rows, 81);
+    std::size_t heldRows = 0;
+    for (std::size_t at = cmp.find(",heldout,"); at != std::string::npos; at = cmp.find(",heldout,", at + 1)) ++heldRows;
+    EXPECT_GE(heldRows, 37u) << "the reload branch is held out";
+    EXPECT_LE(heldRows, 40u) << "the reload branch is held out";
+
+    // a bulk ratio that is not linear in k/k1 (1 + 0.8 (k/k1 - 1)^0.7): run b misses the lab ratio by
+    // more than 10 % of its excess, so a fourth run from the secant through a and b is made and chosen
+    {
+        std::string script = readWholeFile(dir + "/driver.sh");
+        const std::string lin = "lam = 1 + 0.8 * (r - 1);";
+        ASSERT_NE(script.find(lin), std::string::npos);
+        script.replace(script.find(lin), lin.size(), "lam = 1 + 0.8 * (r - 1) ^ 0.7;");
+        writeWholeFile(dir + "/driver2.sh", script);
+        std::filesystem::permissions(dir + "/driver2.sh", std::filesystem::perms::owner_all);
+        DemOptions opt2 = opt;
+        opt2.driver = dir + "/driver2.sh";
+        std::filesystem::create_directories(dir + "/dem3");
+        const DemResult d2 = confirmWithDem(r, rec, dir + "/p.json", opt2, dir + "/dem3");
+        ASSERT_EQ(d2.status, "done") << d2.reason;
+        ASSERT_EQ(d2.runs.size(), 4u);
+        EXPECT_EQ(d2.runs[3].name, "dem_plastic_c");
+        EXPECT_NEAR(d2.runs[2].macro, 3.54, 0.03);
+        EXPECT_NEAR(d2.runs[3].macro, 4.0, 0.1);
+        EXPECT_EQ(d2.chosen, 3);
+        EXPECT_LT(d2.heldoutAugmented, 0.05 * d2.heldoutBaseline);
+    }
+
+    // one unload branch only: nothing left to score on
+    Recording shortRec;
+    for (std::size_t i = 0; i <= 80; ++i) {
+        shortRec.t.push_back(static_cast<double>(i));
+        shortRec.strain.push_back(rec.strain[i]);
+        shortRec.stress.push_back(rec.stress[i]);
+    }
+    EXPECT_EQ(confirmWithDem(r, shortRec, dir + "/p.json", opt, dir + "/dem2").status, "not_run");
 }
 
 // ---- several recordings of one material -----------------------------------------------------------

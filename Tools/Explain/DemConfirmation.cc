@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "Core/Error.h"
@@ -21,23 +23,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string defaultDriver() {
-    std::error_code ec;
-    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) return "OedometerRelaxation";
-    return (self.parent_path() / "OedometerRelaxation").string();
-}
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 /// One hold of the lab recording: time since its start and stress.
 struct LabHold {
     std::vector<double> t, s;
-    double s0 = 0;
+    double s0 = 0, tStart = 0;  ///< tStart: recording time of the hold's first sample
 };
 
 /// Hold curves of a DEM run, normalised: g(t) = sigma(t)/sigma(0), t from the clock start.
@@ -82,6 +71,11 @@ std::vector<DemHold> readDemHolds(const std::string& base) {
     return out;
 }
 
+/// DEM prediction of sample i of lab hold k.
+double holdPredict(const std::vector<LabHold>& lab, const std::vector<DemHold>& dem, std::size_t k, std::size_t i) {
+    return lab[k].s0 * interpolate(dem[k], lab[k].t[i]);
+}
+
 /// RMSE (Pa) of the DEM prediction over the lab holds with index in `which`.
 double holdRmse(const std::vector<LabHold>& lab, const std::vector<DemHold>& dem, const std::vector<std::size_t>& which) {
     double ss = 0;
@@ -89,7 +83,7 @@ double holdRmse(const std::vector<LabHold>& lab, const std::vector<DemHold>& dem
     for (std::size_t k : which) {
         if (k >= dem.size()) return -1;
         for (std::size_t i = 0; i < lab[k].t.size(); ++i) {
-            const double e = lab[k].s[i] - lab[k].s0 * interpolate(dem[k], lab[k].t[i]);
+            const double e = lab[k].s[i] - holdPredict(lab, dem, k, i);
             ss += e * e;
             ++n;
         }
@@ -97,7 +91,419 @@ double holdRmse(const std::vector<LabHold>& lab, const std::vector<DemHold>& dem
     return n > 0 ? std::sqrt(ss / static_cast<double>(n)) : -1;
 }
 
+/// One compared lab sample: the item (hold or branch), whether it was held out, the abscissa of the
+/// figure (recording time or strain), the lab stress and each run's prediction.
+struct Compared {
+    std::size_t item = 0;
+    bool heldout = false;
+    double x = 0, lab = 0;
+    std::vector<double> pred;
+};
+
+/// DIR/comparison.csv and, with gnuplot, DIR/comparison.png: the lab samples the DEM runs were
+/// scored on, with every run's prediction (baseline, a, b; the chosen run in the figure's title).
+void writeComparison(const std::string& dir, const std::vector<Compared>& rows, const DemResult& d, const std::string& xName,
+                     const std::string& xLabel, bool figures) {
+    std::ostringstream os;
+    os << "item,role," << xName << ",lab_stress_Pa";
+    for (const DemRun& r : d.runs) os << ',' << r.name << "_Pa";
+    os << '\n' << std::setprecision(10);
+    for (const Compared& c : rows) {
+        os << c.item + 1 << ',' << (c.heldout ? "heldout" : "calibration") << ',' << c.x << ',' << c.lab;
+        for (double p : c.pred) os << ',' << p;
+        os << '\n';
+    }
+    const std::string csv = dir + "/comparison.csv", png = dir + "/comparison.png";
+    writeWholeFile(csv, os.str());
+    if (!figures || d.chosen < 0) return;
+    const int col = 5 + d.chosen;
+    std::ostringstream g;
+    g << "set terminal pngcairo size 1000,600 noenhanced\nset output " << gnuplotQuote(png + ".tmp") << "\n"
+      << "set datafile separator ','\nset xlabel '" << xLabel << "'\nset ylabel 'axial stress (Pa)'\nset key left top\n"
+      << "set title 'DEM confirmation (" << d.mechanism << "): held-out RMSE " << fmt(d.heldoutBaseline) << " -> "
+      << fmt(d.heldoutAugmented) << " Pa; open symbols: held-out'\n"
+      << "plot " << gnuplotQuote(csv) << " every ::1 u 3:(stringcolumn(2) eq 'calibration' ? $4 : 1/0) w p pt 7 ps 0.5 lc rgb '#777777' t 'recording (calibration)', "
+      << "'' every ::1 u 3:(stringcolumn(2) eq 'heldout' ? $4 : 1/0) w p pt 6 ps 0.7 lc rgb '#000000' t 'recording (held out)', "
+      << "'' every ::1 u 3:5 w p pt 1 ps 0.5 lc rgb 'blue' t 'DEM " << d.runs[0].name << "', "
+      << "'' every ::1 u 3:" << col << " w p pt 2 ps 0.5 lc rgb 'red' t 'DEM " << d.runs[static_cast<std::size_t>(d.chosen)].name << "'\n";
+    writeWholeFile(dir + "/comparison.gp", g.str());
+    runGnuplot(dir + "/comparison.gp", {png});
+}
+
+// ---- plasticity: unload and reload branches in normalised coordinates ---------------------------
+
+/// One branch below the largest strain (an unload, or the reload that follows it), in the
+/// coordinates of its reference point (strain e_ref and stress s_ref where the unload began, loading
+/// tangent E_load before it): u = (e_ref - e) E_load / s_ref, y = s / s_ref. A linear elastic
+/// material unloads along y = 1 - u; one whose unloading is lambda times stiffer along y = 1 - lambda u.
+struct Branch {
+    Phase phase = Phase::Unload;
+    double sRef = 0;
+    std::vector<double> u, y, s, e;  ///< s, e: stress (Pa) and strain of the samples
+};
+
+/// Least-squares slope of y against x over [i0, i1).
+double slope(const std::vector<double>& x, const std::vector<double>& y, std::size_t i0, std::size_t i1) {
+    const double n = static_cast<double>(i1 - i0);
+    double mx = 0, my = 0;
+    for (std::size_t i = i0; i < i1; ++i) mx += x[i], my += y[i];
+    mx /= n, my /= n;
+    double sxy = 0, sxx = 0;
+    for (std::size_t i = i0; i < i1; ++i) sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
+    return sxx > 0 ? sxy / sxx : 0;
+}
+
+/// Unload and reload branches of a record, in order (holds are not branches). The reference is
+/// taken where an unload follows a loading (holds in between ignored) and kept for the unloads and
+/// reloads after it until the next loading; branches without a usable reference (no loading of at
+/// least 3 samples before them, a non-positive stress or loading tangent at the start) are skipped.
+std::vector<Branch> cycleBranches(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s) {
+    std::vector<Branch> out;
+    const std::vector<PhaseSegment> ph = detectPhases(t, e);
+    const PhaseSegment* lastLoad = nullptr;
+    bool afterLoad = false, valid = false;
+    double eRef = 0, sRef = 0, eLoad = 0;
+    for (const PhaseSegment& seg : ph) {
+        if (seg.phase == Phase::Hold) continue;
+        if (seg.phase == Phase::Load) {
+            lastLoad = &seg;
+            afterLoad = true;
+            valid = false;
+            continue;
+        }
+        if (seg.phase == Phase::Unload && afterLoad) {
+            afterLoad = false;
+            valid = false;
+            if (lastLoad->end - lastLoad->begin < 3) continue;
+            // loading tangent: the samples of the last loading in its top 20 % of stress (at least 3)
+            const double top = *std::max_element(s.begin() + static_cast<long>(lastLoad->begin), s.begin() + static_cast<long>(lastLoad->end));
+            std::size_t i0 = lastLoad->end;
+            while (i0 > lastLoad->begin && (s[i0 - 1] >= 0.8 * top || lastLoad->end - i0 < 3)) --i0;
+            eLoad = slope(e, s, i0, lastLoad->end);
+            eRef = e[seg.begin];
+            sRef = s[seg.begin];
+            valid = eLoad > 0 && sRef > 0;
+        }
+        if (!valid) continue;
+        Branch b;
+        b.phase = seg.phase;
+        b.sRef = sRef;
+        for (std::size_t i = seg.begin; i < seg.end; ++i) {
+            b.u.push_back((eRef - e[i]) * eLoad / sRef);
+            b.y.push_back(s[i] / sRef);
+            b.s.push_back(s[i]);
+            b.e.push_back(e[i]);
+        }
+        out.push_back(std::move(b));
+    }
+    return out;
+}
+
+/// Whether a DEM run's branches pair with the lab's: the same number, the same phase at each index.
+bool samePhases(const std::vector<Branch>& lab, const std::vector<Branch>& dem) {
+    if (lab.size() != dem.size()) return false;
+    for (std::size_t k = 0; k < lab.size(); ++k)
+        if (lab[k].phase != dem[k].phase) return false;
+    return true;
+}
+
+/// The branch as a function y(u): samples sorted by u (linear interpolation, constant outside).
+double branchAt(const std::vector<std::pair<double, double>>& uy, double u) {
+    if (uy.empty()) return 0;
+    if (u <= uy.front().first) return uy.front().second;
+    if (u >= uy.back().first) return uy.back().second;
+    const auto it = std::upper_bound(uy.begin(), uy.end(), std::make_pair(u, -std::numeric_limits<double>::infinity()));
+    const auto& [u1, y1] = *it;
+    const auto& [u0, y0] = *(it - 1);
+    return u1 > u0 ? y0 + (y1 - y0) * (u - u0) / (u1 - u0) : y1;
+}
+
+/// DEM predictions of every sample of lab branch k: s_pred = s_ref,lab * y_DEM(u_lab).
+std::vector<double> branchPredict(const std::vector<Branch>& lab, const std::vector<Branch>& dem, std::size_t k) {
+    std::vector<std::pair<double, double>> uy;
+    for (std::size_t i = 0; i < dem[k].u.size(); ++i) uy.emplace_back(dem[k].u[i], dem[k].y[i]);
+    std::sort(uy.begin(), uy.end());
+    std::vector<double> out;
+    for (double u : lab[k].u) out.push_back(lab[k].sRef * branchAt(uy, u));
+    return out;
+}
+
+/// RMSE (Pa) of the DEM branches predicting the lab branches with index in `which`.
+double branchRmse(const std::vector<Branch>& lab, const std::vector<Branch>& dem, const std::vector<std::size_t>& which) {
+    double ss = 0;
+    std::size_t n = 0;
+    for (std::size_t k : which) {
+        if (k >= dem.size()) return -1;
+        const std::vector<double> pred = branchPredict(lab, dem, k);
+        for (std::size_t i = 0; i < pred.size(); ++i) {
+            const double err = lab[k].s[i] - pred[i];
+            ss += err * err;
+            ++n;
+        }
+    }
+    return n > 0 ? std::sqrt(ss / static_cast<double>(n)) : -1;
+}
+
+/// Unloading stiffness over loading tangent measured on the unload branches in `which`: the slope
+/// lambda of 1 - y = lambda u through the origin over the samples with y >= 0.2 (the tail near
+/// zero stress is left out). The same estimator on the lab and on the DEM record.
+double unloadRatio(const std::vector<Branch>& b, const std::vector<std::size_t>& which) {
+    double suy = 0, suu = 0;
+    for (std::size_t k : which) {
+        if (k >= b.size() || b[k].phase != Phase::Unload) continue;
+        for (std::size_t i = 0; i < b[k].u.size(); ++i)
+            if (b[k].y[i] >= 0.2) suy += b[k].u[i] * (1 - b[k].y[i]), suu += b[k].u[i] * b[k].u[i];
+    }
+    return suu > 0 ? suy / suu : -1;
+}
+
+std::vector<Branch> readDemBranches(const std::string& base) {
+    const recording::Recording rec = recording::readRecording(base + ".recording.csv");
+    const int ct = rec.column("time_s"), cs = rec.column("axial_stress_Pa"), ce = rec.column("axial_strain");
+    if (ct < 0 || cs < 0 || ce < 0) inputError(base + ".recording.csv: missing time_s/axial_strain/axial_stress_Pa");
+    if (rec.rows.size() < 10) inputError(base + ".recording.csv: fewer than 10 samples");
+    std::vector<double> t, e, s;
+    for (const auto& row : rec.rows) {
+        t.push_back(row[static_cast<std::size_t>(ct)]);
+        e.push_back(row[static_cast<std::size_t>(ce)]);
+        s.push_back(row[static_cast<std::size_t>(cs)]);
+    }
+    return cycleBranches(t, e, s);
+}
+
+/// Shared set-up of the DEM runs: the driver, the work directory and the clock.
+struct DemContext {
+    const DemOptions& opt;
+    std::string driver, workDir;
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    DemResult& d;
+
+    /// Runs the driver with the recording's protocol and `args`; false when it failed.
+    bool run(DemRun run, const std::string& protocolPath, const std::string& args) {
+        std::ostringstream cmd;
+        cmd << shellQuote(driver) << " --protocol_file " << shellQuote(protocolPath) << args << " --output " << shellQuote(workDir) << " --name "
+            << run.name << " --threads " << opt.threads << " --quiet --vtk 0 --ene 0";
+        // the FT4 mould with the driver's ft4 preset (without its protocol: the recording's is used)
+        if (opt.mode == "ft4")
+            cmd << " --geometry cylinder --device ft4 --diameter 0.05 --fill_height_m 0.05 --hold_tau 0.005 --ramp_rate 1";
+        run.command = cmd.str();
+        const auto t1 = std::chrono::steady_clock::now();
+        const int rc = std::system((run.command + " > " + shellQuote(workDir + "/" + run.name + ".log") + " 2>&1").c_str());
+        run.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+        d.runs.push_back(run);
+        return rc == 0;
+    }
+    DemResult fail(const std::string& why) {
+        d.status = "failed";
+        d.reason = why;
+        return finish();
+    }
+    DemResult finish() {
+        d.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return d;
+    }
+};
+
+DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const Recording& rec, const std::string& protocolPath) {
+    DemResult& d = ctx.d;
+    d.mechanism = "contact_relaxation";
+    double C = -1, t0 = -1;
+    for (std::size_t q = 0; q < relax.params.size(); ++q) {
+        if (relax.params[q] == pRelaxC) C = relax.value[q];
+        if (relax.params[q] == pRelaxT0) t0 = relax.value[q];
+    }
+    if (!(C > 0) || !(t0 > 0)) return ctx.fail("the accepted contact_relaxation term has no positive C and t0");
+
+    // lab holds, alternately calibration and held-out
+    std::vector<LabHold> lab;
+    for (const PhaseSegment& seg : detectPhases(rec.t, rec.strain)) {
+        if (seg.phase != Phase::Hold || seg.end - seg.begin < 5) continue;
+        LabHold h;
+        for (std::size_t i = seg.begin; i < seg.end; ++i) {
+            h.t.push_back(rec.t[i] - rec.t[seg.begin]);
+            h.s.push_back(rec.stress[i]);
+        }
+        h.s0 = (h.s[0] + h.s[1] + h.s[2]) / 3;
+        h.tStart = rec.t[seg.begin];
+        lab.push_back(std::move(h));
+    }
+    std::vector<std::size_t> cal, held;
+    for (std::size_t k = 0; k < lab.size(); ++k) (k % 2 == 0 ? cal : held).push_back(k);
+    if (held.empty()) {
+        d.status = "not_run";
+        d.reason = "the recording has fewer than two holds: no held-out hold to score the DEM re-run on";
+        return ctx.finish();
+    }
+    d.calibrationHolds = static_cast<int>(cal.size());
+    d.heldoutHolds = static_cast<int>(held.size());
+
+    auto runDem = [&](const std::string& name, double relaxC) -> std::vector<DemHold> {
+        DemRun run;
+        run.name = name;
+        run.relaxC = relaxC;
+        run.relaxT0 = t0;
+        if (!ctx.run(run, protocolPath, " --relax_C " + fmt(relaxC) + " --relax_t0 " + fmt(t0))) return {};
+        try {
+            return readDemHolds(ctx.workDir + "/" + name);
+        } catch (const InputError&) {
+            return {};  // an unreadable DEM record: the run counts as failed
+        }
+    };
+    const std::vector<DemHold> base = runDem("dem_baseline", 0);
+    if (base.size() < lab.size()) return ctx.fail("baseline DEM run failed or has fewer holds than the recording (log: dem_baseline.log)");
+    const std::vector<DemHold> augA = runDem("dem_relax_a", C);
+    if (augA.size() < lab.size()) return ctx.fail("augmented DEM run failed (log: dem_relax_a.log)");
+    double macroA = 0;
+    int nA = 0;
+    for (std::size_t k : cal)
+        if (augA[k].fitC > 0) macroA += augA[k].fitC, ++nA;
+    macroA = nA > 0 ? macroA / nA : C;
+    const double C2 = C * C / macroA;
+    const std::vector<DemHold> augB = runDem("dem_relax_b", C2);
+    if (augB.size() < lab.size()) return ctx.fail("augmented DEM run failed (log: dem_relax_b.log)");
+    double macroB = 0;
+    int nB = 0;
+    for (std::size_t k : cal)
+        if (augB[k].fitC > 0) macroB += augB[k].fitC, ++nB;
+
+    const std::vector<const std::vector<DemHold>*> all = {&base, &augA, &augB};
+    for (std::size_t q = 0; q < all.size(); ++q) {
+        d.runs[q].calibrationRmse = holdRmse(lab, *all[q], cal);
+        d.runs[q].heldoutRmse = holdRmse(lab, *all[q], held);
+    }
+    d.runs[1].macro = macroA;
+    d.runs[2].macro = nB > 0 ? macroB / nB : -1;
+    d.chosen = d.runs[2].calibrationRmse < d.runs[1].calibrationRmse ? 2 : 1;
+    d.heldoutBaseline = d.runs[0].heldoutRmse;
+    d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
+    d.status = "done";
+    std::vector<Compared> rows;
+    for (std::size_t k = 0; k < lab.size(); ++k)
+        for (std::size_t i = 0; i < lab[k].t.size(); ++i) {
+            Compared c{k, k % 2 == 1, lab[k].tStart + lab[k].t[i], lab[k].s[i], {}};
+            for (const auto* run : all) c.pred.push_back(holdPredict(lab, *run, k, i));
+            rows.push_back(std::move(c));
+        }
+    writeComparison(ctx.workDir, rows, d, "time_s", "time (s)", ctx.opt.figures);
+    return ctx.finish();
+}
+
+DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const Recording& rec, const std::string& protocolPath) {
+    DemResult& d = ctx.d;
+    d.mechanism = "plasticity";
+    double lam = -1;
+    for (std::size_t q = 0; q < plast.params.size(); ++q)
+        if (plast.params[q] == pLambda) lam = plast.value[q];
+    if (!(lam > 1)) return ctx.fail("the accepted plasticity term has no unloading stiffness ratio above 1");
+
+    // lab branches: the unloads calibrate, the reloads are held out
+    const std::vector<Branch> lab = cycleBranches(rec.t, rec.strain, rec.stress);
+    std::vector<std::size_t> cal, held;
+    for (std::size_t k = 0; k < lab.size(); ++k) (lab[k].phase == Phase::Unload ? cal : held).push_back(k);
+    if (cal.empty() || held.empty()) {
+        d.status = "not_run";
+        d.reason = "the recording needs an unload (calibration) and a reload after it (held out) with a loading before them; it has " +
+                   std::to_string(cal.size()) + " usable unload and " + std::to_string(held.size()) + " reload branch(es)";
+        return ctx.finish();
+    }
+    d.calibrationHolds = static_cast<int>(cal.size());
+    d.heldoutHolds = static_cast<int>(held.size());
+    const double labRatio = unloadRatio(lab, cal);
+    if (!(labRatio > 0)) return ctx.fail("no unloading stiffness could be measured on the calibration branches of the recording");
+
+    // the protocol's stresses brought into the material's range (Luding's law is piecewise linear
+    // in the overlap, and the comparison is in units of each branch's start stress)
+    double maxTarget = 0;
+    try {
+        for (const recording::Step& st : recording::readProtocol(protocolPath).steps) maxTarget = std::max(maxTarget, st.targetStress);
+    } catch (const InputError& e) {
+        return ctx.fail(std::string("protocol: ") + e.what());
+    }
+    if (!(maxTarget > 0)) return ctx.fail("the protocol has no target stress");
+    d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
+
+    auto runDem = [&](const std::string& name, double ratio) -> std::vector<Branch> {
+        DemRun run;
+        run.name = name;
+        run.kOverK1 = ratio;
+        const std::string args = " --relax_C 0 --kc_over_k 0 --k_over_k1 " + fmt(ratio) + " --stress_scale " + fmt(d.stressScale);
+        if (!ctx.run(run, protocolPath, args)) return {};
+        try {
+            return readDemBranches(ctx.workDir + "/" + name);
+        } catch (const InputError&) {
+            return {};  // an unreadable DEM record: the run counts as failed
+        }
+    };
+    const auto mismatch = [&](const std::string& name) {
+        return ctx.fail("DEM run " + name + " failed or its unload/reload branches do not pair with the recording's (" +
+                        std::to_string(lab.size()) + "; log: " + name + ".log)");
+    };
+    const std::vector<Branch> base = runDem("dem_baseline", 1);
+    if (!samePhases(lab, base)) return mismatch("dem_baseline");
+    const double ratioA = std::clamp(lam, 1.05, kMaxKOverK1);
+    const std::vector<Branch> augA = runDem("dem_plastic_a", ratioA);
+    if (!samePhases(lab, augA)) return mismatch("dem_plastic_a");
+    // second run: the secant through (1, baseline's ratio) and (k/k1 of run a, its ratio) aimed at
+    // the recording's measured ratio
+    const double r0 = unloadRatio(base, cal), rA = unloadRatio(augA, cal);
+    if (!(rA > r0 + 1e-3))
+        return ctx.fail("the DEM bed's unloading ratio did not grow with k/k1 (" + fmt(r0) + " at k/k1 = 1, " + fmt(rA) + " at " + fmt(ratioA) +
+                        "): no calibration possible");
+    const double ratioB = std::clamp(1 + (ratioA - 1) * (labRatio - r0) / (rA - r0), 1.05, kMaxKOverK1);
+    const std::vector<Branch> augB = runDem("dem_plastic_b", ratioB);
+    if (!samePhases(lab, augB)) return mismatch("dem_plastic_b");
+    // third run when neither hit the recording's ratio within 10 % of its excess over 1 (the bulk
+    // ratio is not linear in k/k1): the secant through runs a and b
+    const double rB = unloadRatio(augB, cal), tol = 0.1 * std::max(labRatio - 1, 0.05);
+    std::vector<Branch> augC;
+    if (std::abs(rA - labRatio) > tol && std::abs(rB - labRatio) > tol && std::abs(rB - rA) > 1e-3 && ratioB != ratioA) {
+        const double ratioC = std::clamp(ratioA + (ratioB - ratioA) * (labRatio - rA) / (rB - rA), 1.05, kMaxKOverK1);
+        augC = runDem("dem_plastic_c", ratioC);
+        if (!samePhases(lab, augC)) return mismatch("dem_plastic_c");
+    }
+
+    std::vector<const std::vector<Branch>*> all = {&base, &augA, &augB};
+    if (!augC.empty()) all.push_back(&augC);
+    for (std::size_t q = 0; q < all.size(); ++q) {
+        d.runs[q].calibrationRmse = branchRmse(lab, *all[q], cal);
+        d.runs[q].heldoutRmse = branchRmse(lab, *all[q], held);
+        d.runs[q].macro = unloadRatio(*all[q], cal);
+    }
+    d.labMacro = labRatio;
+    d.chosen = 1;  // the augmented run with the smallest calibration error
+    for (std::size_t q = 2; q < d.runs.size(); ++q)
+        if (d.runs[q].calibrationRmse < d.runs[static_cast<std::size_t>(d.chosen)].calibrationRmse) d.chosen = static_cast<int>(q);
+    d.heldoutBaseline = d.runs[0].heldoutRmse;
+    d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
+    d.status = "done";
+    std::vector<Compared> rows;
+    for (std::size_t k = 0; k < lab.size(); ++k) {
+        std::vector<std::vector<double>> pred;
+        for (const auto* run : all) pred.push_back(branchPredict(lab, *run, k));
+        for (std::size_t i = 0; i < lab[k].u.size(); ++i) {
+            Compared c{k, lab[k].phase == Phase::Reload, lab[k].e[i], lab[k].s[i], {}};
+            for (const auto& p : pred) c.pred.push_back(p[i]);
+            rows.push_back(std::move(c));
+        }
+    }
+    writeComparison(ctx.workDir, rows, d, "axial_strain", "axial strain", ctx.opt.figures);
+    return ctx.finish();
+}
+
 } // namespace
+
+std::string defaultDemDriver() {
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return "OedometerRelaxation";
+    return (self.parent_path() / "OedometerRelaxation").string();
+}
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
 
 DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std::string& protocolPath,
                          const DemOptions& opt, const std::string& workDir) {
@@ -111,115 +517,31 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         d.reason = "no mechanism was accepted, so there is nothing to add to the DEM model";
         return d;
     }
-    const MechanismResult* relax = nullptr;
-    for (const auto& m : r.mechanisms)
-        if (m.comp == kRelaxation) relax = &m;
-    if (!relax) {
+    const MechanismResult* m = nullptr;
+    for (const auto& mr : r.mechanisms)
+        if (demSupported(mr.comp)) {
+            m = &mr;
+            break;
+        }
+    if (!m) {
         d.status = "not_supported";
         d.mechanism = compName(r.mechanisms.front().comp);
-        d.reason = "the DEM re-run is implemented for contact_relaxation only; " + d.mechanism +
+        d.reason = "the DEM re-run is implemented for contact_relaxation and plasticity; " + d.mechanism +
                    " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
         return d;
     }
-    d.mechanism = "contact_relaxation";
-    double C = -1, t0 = -1;
-    for (std::size_t q = 0; q < relax->params.size(); ++q) {
-        if (relax->params[q] == pRelaxC) C = relax->value[q];
-        if (relax->params[q] == pRelaxT0) t0 = relax->value[q];
-    }
-    if (!(C > 0) || !(t0 > 0)) {
-        d.status = "failed";
-        d.reason = "the accepted contact_relaxation term has no positive C and t0";
-        return d;
-    }
-
-    // lab holds, alternately calibration and held-out
-    std::vector<LabHold> lab;
-    for (const PhaseSegment& seg : detectPhases(rec.t, rec.strain)) {
-        if (seg.phase != Phase::Hold || seg.end - seg.begin < 5) continue;
-        LabHold h;
-        for (std::size_t i = seg.begin; i < seg.end; ++i) {
-            h.t.push_back(rec.t[i] - rec.t[seg.begin]);
-            h.s.push_back(rec.stress[i]);
-        }
-        h.s0 = (h.s[0] + h.s[1] + h.s[2]) / 3;
-        lab.push_back(std::move(h));
-    }
-    std::vector<std::size_t> cal, held;
-    for (std::size_t k = 0; k < lab.size(); ++k) (k % 2 == 0 ? cal : held).push_back(k);
-    if (held.empty()) {
+    DemContext ctx{opt, opt.driver.empty() ? defaultDemDriver() : opt.driver, workDir, std::chrono::steady_clock::now(), d};
+    if (::access(ctx.driver.c_str(), X_OK) != 0) {
         d.status = "not_run";
-        d.reason = "the recording has fewer than two holds: no held-out hold to score the DEM re-run on";
-        return d;
-    }
-    d.calibrationHolds = static_cast<int>(cal.size());
-    d.heldoutHolds = static_cast<int>(held.size());
-
-    const std::string driver = opt.driver.empty() ? defaultDriver() : opt.driver;
-    if (::access(driver.c_str(), X_OK) != 0) {
-        d.status = "not_run";
-        d.reason = "driver executable not found: " + driver + " (give --dem_driver)";
+        d.mechanism = compName(m->comp);
+        d.reason = "driver executable not found: " + ctx.driver + " (give --dem_driver)";
         return d;
     }
     fs::create_directories(workDir);
-    const auto tStart = std::chrono::steady_clock::now();
-    auto runDem = [&](const std::string& name, double relaxC) -> std::vector<DemHold> {
-        DemRun run;
-        run.name = name;
-        run.relaxC = relaxC;
-        run.relaxT0 = t0;
-        std::ostringstream cmd;
-        cmd << quote(driver) << " --protocol_file " << quote(protocolPath) << " --relax_C " << fmt(relaxC) << " --relax_t0 "
-            << fmt(t0) << " --output " << quote(workDir) << " --name " << name << " --threads " << opt.threads
-            << " --quiet --vtk 0 --ene 0";
-        // the FT4 mould with the driver's ft4 preset (without its protocol: the recording's is used)
-        if (opt.mode == "ft4")
-            cmd << " --geometry cylinder --device ft4 --diameter 0.05 --fill_height_m 0.05 --hold_tau 0.005 --ramp_rate 1";
-        run.command = cmd.str();
-        const auto t1 = std::chrono::steady_clock::now();
-        const int rc = std::system((run.command + " > " + quote(workDir + "/" + name + ".log") + " 2>&1").c_str());
-        run.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-        d.runs.push_back(run);
-        if (rc != 0) return {};
-        return readDemHolds(workDir + "/" + name);
-    };
-    const auto fail = [&](const std::string& why) {
-        d.status = "failed";
-        d.reason = why;
-        d.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tStart).count();
-        return d;
-    };
-    const std::vector<DemHold> base = runDem("dem_baseline", 0);
-    if (base.size() < lab.size()) return fail("baseline DEM run failed or has fewer holds than the recording (log: dem_baseline.log)");
-    const std::vector<DemHold> augA = runDem("dem_relax_a", C);
-    if (augA.size() < lab.size()) return fail("augmented DEM run failed (log: dem_relax_a.log)");
-    double macroA = 0;
-    int nA = 0;
-    for (std::size_t k : cal)
-        if (augA[k].fitC > 0) macroA += augA[k].fitC, ++nA;
-    macroA = nA > 0 ? macroA / nA : C;
-    const double C2 = C * C / macroA;
-    const std::vector<DemHold> augB = runDem("dem_relax_b", C2);
-    if (augB.size() < lab.size()) return fail("augmented DEM run failed (log: dem_relax_b.log)");
-    double macroB = 0;
-    int nB = 0;
-    for (std::size_t k : cal)
-        if (augB[k].fitC > 0) macroB += augB[k].fitC, ++nB;
-
-    const std::vector<const std::vector<DemHold>*> all = {&base, &augA, &augB};
-    for (std::size_t q = 0; q < all.size(); ++q) {
-        d.runs[q].calibrationRmse = holdRmse(lab, *all[q], cal);
-        d.runs[q].heldoutRmse = holdRmse(lab, *all[q], held);
-    }
-    d.runs[1].macroC = macroA;
-    d.runs[2].macroC = nB > 0 ? macroB / nB : -1;
-    d.chosen = d.runs[2].calibrationRmse < d.runs[1].calibrationRmse ? 2 : 1;
-    d.heldoutBaseline = d.runs[0].heldoutRmse;
-    d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
-    d.status = "done";
-    d.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tStart).count();
-    return d;
+    return m->comp == kRelaxation ? confirmRelaxation(ctx, *m, rec, protocolPath) : confirmPlasticity(ctx, *m, rec, protocolPath);
 }
+
+bool demSupported(int comp) { return comp == kRelaxation || comp == kPlasticity; }
 
 Json demJson(const DemResult& d) {
     Json j = Json::object();
@@ -227,23 +549,35 @@ Json demJson(const DemResult& d) {
     if (!d.reason.empty()) j.set("reason", d.reason);
     if (!d.mechanism.empty()) j.set("mechanism", d.mechanism);
     const auto num = [](double x) { return x >= 0 && std::isfinite(x) ? Json(x) : Json(); };
+    const bool plastic = d.mechanism == "plasticity";
     j.set("heldout_rmse_baseline", num(d.heldoutBaseline));
     j.set("heldout_rmse_augmented", num(d.heldoutAugmented));
     if (d.status == "done") {
         j.set("heldout_reduction", d.heldoutBaseline > 0 ? Json(1 - d.heldoutAugmented / d.heldoutBaseline) : Json());
-        j.set("calibration_holds", d.calibrationHolds);
-        j.set("heldout_holds", d.heldoutHolds);
+        j.set(plastic ? "calibration_branches" : "calibration_holds", d.calibrationHolds);
+        j.set(plastic ? "heldout_branches" : "heldout_holds", d.heldoutHolds);
         j.set("chosen_run", d.runs[static_cast<std::size_t>(d.chosen)].name);
+        if (plastic) {
+            j.set("stress_scale", d.stressScale);
+            j.set("recording_unload_stiffness_ratio_calibration_branches", num(d.labMacro));
+        }
     }
     Json runs = Json::array();
-    for (const DemRun& r : d.runs)
-        runs.push(Json::object({{"name", r.name},
-                                {"relax_C", r.relaxC},
-                                {"relax_t0_s", r.relaxT0},
-                                {"dem_macroscopic_C_calibration_holds", num(r.macroC)},
-                                {"calibration_rmse_Pa", num(r.calibrationRmse)},
-                                {"heldout_rmse_Pa", num(r.heldoutRmse)},
-                                {"command", r.command}}));
+    for (const DemRun& r : d.runs) {
+        Json o = Json::object({{"name", r.name}});
+        if (plastic) {
+            o.set("k_over_k1", r.kOverK1);
+            o.set("dem_unload_stiffness_ratio_calibration_branches", num(r.macro));
+        } else {
+            o.set("relax_C", r.relaxC);
+            o.set("relax_t0_s", r.relaxT0);
+            o.set("dem_macroscopic_C_calibration_holds", num(r.macro));
+        }
+        o.set("calibration_rmse_Pa", num(r.calibrationRmse));
+        o.set("heldout_rmse_Pa", num(r.heldoutRmse));
+        o.set("command", r.command);
+        runs.push(o);
+    }
     j.set("runs", runs);
     return j;
 }
@@ -256,14 +590,26 @@ std::string demMarkdown(const DemResult& d) {
         return os.str();
     }
     const DemRun& a = d.runs[static_cast<std::size_t>(d.chosen)];
-    char buf[640];
-    std::snprintf(buf, sizeof buf,
-                  "The OedometerRelaxation driver was re-run on this protocol, once with the standard contact law and "
-                  "once with contact relaxation switched on (contact C = %.4g, t0 = %.4g s, calibrated on %d hold(s)). "
-                  "On the %d hold(s) the calibration did not see, the DEM hold curves miss the recording by %.4g Pa (RMS) "
-                  "without relaxation and %.4g Pa with it (%.1f %% lower). Runs, commands and logs are in `dem/`.\n",
-                  a.relaxC, a.relaxT0, d.calibrationHolds, d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented,
-                  d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0);
+    const double gain = d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0;
+    char buf[900];
+    if (d.mechanism == "plasticity")
+        std::snprintf(buf, sizeof buf,
+                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
+                      "material's range), once with an elastic contact law (Luding k/k1 = 1) and once with plastic "
+                      "contacts (k/k1 = %.4g, calibrated on %d unload/reload branch(es) to the recording's unloading "
+                      "stiffness ratio %.3g; the DEM gives %.3g). Compared in units of each branch's start stress and "
+                      "loading stiffness, on the %d branch(es) the calibration did not see the DEM misses the recording "
+                      "by %.4g Pa (RMS) with elastic contacts and %.4g Pa with plastic ones (%.1f %% lower). Runs, "
+                      "commands and logs are in `dem/`.\n",
+                      d.stressScale, a.kOverK1, d.calibrationHolds, d.labMacro, a.macro, d.heldoutHolds, d.heldoutBaseline,
+                      d.heldoutAugmented, gain);
+    else
+        std::snprintf(buf, sizeof buf,
+                      "The OedometerRelaxation driver was re-run on this protocol, once with the standard contact law and "
+                      "once with contact relaxation switched on (contact C = %.4g, t0 = %.4g s, calibrated on %d hold(s)). "
+                      "On the %d hold(s) the calibration did not see, the DEM hold curves miss the recording by %.4g Pa (RMS) "
+                      "without relaxation and %.4g Pa with it (%.1f %% lower). Runs, commands and logs are in `dem/`.\n",
+                      a.relaxC, a.relaxT0, d.calibrationHolds, d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain);
     os << buf;
     return os.str();
 }

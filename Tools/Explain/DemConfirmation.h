@@ -11,6 +11,17 @@
 // augmented with the contact C equal to the explainer's macroscopic C; a second augmented run with
 // C rescaled by (macroscopic C / DEM macroscopic C on the calibration holds). The augmented run with
 // the smaller calibration error is scored on the held-out holds.
+//
+// And for plasticity (Luding's law, driver flag --k_over_k1; adhesion and relaxation off in every
+// run): the lab's unload and reload branches, alternately calibration and held-out, are compared in
+// units of each branch's start: u = (e_ref - e) E_load / s_ref, y = s / s_ref (e_ref, s_ref where the
+// unload began, E_load the loading tangent over the top 20 % of stress before it); the DEM branch
+// y(u) predicts the lab branch as s_ref,lab y_DEM(u_lab). Runs: baseline k/k1 = 1 (elastic);
+// k/k1 = the explainer's unloading stiffness ratio; k/k1 from the secant through both runs' measured
+// ratios aimed at the recording's; when neither augmented run is within 10 % (of the ratio's excess
+// over 1), a fourth run from the secant through the two. The augmented run with the smallest
+// calibration error is scored. The protocol's stresses are scaled into the material's range
+// (at most kDemMaxStress).
 #pragma once
 #include <string>
 #include <vector>
@@ -24,13 +35,22 @@ struct DemOptions {
     std::string mode = "fast";  ///< off | fast (periodic bed, default driver size) | ft4 (D = H = 50 mm mould)
     std::string driver;         ///< OedometerRelaxation executable (empty: next to this program)
     int threads = 1;
+    bool figures = true;        ///< dem/comparison.png (gnuplot)
 };
+
+/// Largest protocol stress of a plasticity DEM run (Pa): the cocoa material's range (thesis ch. 5).
+inline constexpr double kDemMaxStress = 20e3;
+/// Largest k/k1 a plasticity DEM run may use.
+inline constexpr double kMaxKOverK1 = 50;
 
 struct DemRun {
     std::string name;
-    double relaxC = 0, relaxT0 = 0;
+    double relaxC = 0, relaxT0 = 0;  ///< contact_relaxation runs
+    double kOverK1 = 0;              ///< plasticity runs
     double calibrationRmse = -1, heldoutRmse = -1;  ///< Pa
-    double macroC = -1;                             ///< mean fitted C of the DEM calibration holds
+    /// contact_relaxation: mean fitted C of the DEM calibration holds; plasticity: unloading
+    /// stiffness ratio measured on the DEM calibration branches
+    double macro = -1;
     double wallSeconds = 0;
     std::string command;
 };
@@ -40,12 +60,22 @@ struct DemResult {
     std::string reason, mechanism;
     std::vector<DemRun> runs;
     int chosen = -1;  ///< index of the scored augmented run
-    int calibrationHolds = 0, heldoutHolds = 0;
+    int calibrationHolds = 0, heldoutHolds = 0;  ///< holds (contact_relaxation) or unload/reload branches (plasticity)
+    double stressScale = 1;   ///< plasticity: factor applied to the protocol's stresses
+    double labMacro = -1;     ///< plasticity: the recording's unloading stiffness ratio (calibration branches)
     double heldoutBaseline = -1, heldoutAugmented = -1;
     double wallSeconds = 0;
 };
 
-/// Runs the confirmation for the first accepted mechanism of `r` (workDir receives the runs).
+/// The OedometerRelaxation executable next to the running program ("OedometerRelaxation" if unknown).
+std::string defaultDemDriver();
+/// A word for /bin/sh: single-quoted, embedded quotes escaped.
+std::string shellQuote(const std::string& s);
+
+/// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity).
+bool demSupported(int comp);
+
+/// Runs the confirmation for the first accepted mechanism of `r` that has one (workDir receives the runs).
 DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std::string& protocolPath,
                          const DemOptions& opt, const std::string& workDir);
 

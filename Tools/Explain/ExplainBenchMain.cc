@@ -11,6 +11,7 @@
 
 #include "Cli.h"
 #include "Core/Error.h"
+#include "DemCases.h"
 #include "Explain.h"
 #include "ExplainBench.h"
 #include "IO/AtomicFile.h"
@@ -32,7 +33,8 @@ int main(int argc, char** argv) {
         tools::Cli cli("pdpm-explain-bench", "blind benchmark of pdpm-explain: generate, explain, score");
         std::string out, snrText, mechText;
         int reps = 5, nulls = 40, samples = 2000, seed = 1, forced = 10, extras = 5, pairs = 0;
-        std::string pairSnrText;
+        std::string pairSnrText, demSnrText, demDriverArgs;
+        int demCases = 0;
         bool calibrated = false;
         cli.add("output", &out, "", "output directory");
         cli.add("reps", &reps, 5, "positive cases per mechanism and SNR", 0, 100000);
@@ -47,6 +49,9 @@ int main(int argc, char** argv) {
         cli.add("mechanisms", &mechText,
                 "contact_relaxation,plasticity,cohesion,wall_friction,rate_dependence,stiffness_nonlinearity",
                 "mechanisms of the positive cases");
+        cli.add("dem_cases", &demCases, 0, "DEM-made cases: contact_relaxation cases per SNR of --dem_snr and as many null cases (0: skip; each runs the OedometerRelaxation driver, about a minute per run)", 0, 100000);
+        cli.add("dem_snr", &demSnrText, "3,5", "peak SNR values of the DEM-made positive cases");
+        cli.add("dem_driver_args", &demDriverArgs, "", "extra OedometerRelaxation arguments of the DEM-made cases (e.g. '--width 4 --fill_height 5')");
         cli.add("calibrated_compliance", &calibrated, false,
                 "give the explainer each case's instrument compliance, as a lab's calibration run would "
                 "(cases/NAME/model.json); default: blind, the compliance is fitted as a nuisance");
@@ -54,6 +59,7 @@ int main(int argc, char** argv) {
         if (out.empty()) inputError("--output is required");
         const auto snrs = tools::parseNumberList("snr", snrText);
         const auto pairSnrs = tools::parseNumberList("pair_snr", pairSnrText);  // checked before the long run
+        const auto demSnrs = tools::parseNumberList("dem_snr", demSnrText);
         std::vector<std::string> mechs;
         {
             std::string m = mechText;
@@ -233,6 +239,7 @@ int main(int argc, char** argv) {
             md << "\n" << (calibrated ? "(The pairs below are blind: --calibrated_compliance applies to the single cases only.)\n" : "")
                << pairBenchmark(pairs, mechs, pairSnrs, samples,
                                         (unsigned long)seed);
+        if (demCases > 0) md << "\n" << demCaseBenchmark(demCases, demSnrs, samples, (unsigned long)seed, out, demDriverArgs);
         writeWholeFile(out + "/summary.md", md.str());
         std::ostringstream pc;
         pc << "snr,detected,cases\n";

@@ -46,6 +46,7 @@ int runExplainCommand(const std::vector<std::string>& args) {
         ExplainOptions opt;
         opt.seed = (unsigned long)seed;
         opt.figures = !noFigures;
+        dem.figures = !noFigures;
         if (!model.empty()) readModelFile(model, opt);
         std::vector<Protocol> protos;
         std::vector<Recording> recs;
@@ -65,12 +66,12 @@ int runExplainCommand(const std::vector<std::string>& args) {
             writeSeveralReport(output, several, recs, protos, opt);
         }
         // Step 6: the DEM re-run, on the first recording whose own explanation accepted the mechanism the
-        // DEM step supports (contact_relaxation; else recording 1); its block replaces the placeholder.
+        // DEM step supports (contact_relaxation, plasticity; else recording 1); its block replaces the placeholder.
         std::size_t demRec = 0;
         if (recs.size() > 1)
             for (std::size_t k = recs.size(); k-- > 0;)
                 for (const auto& m : several.per[k].mechanisms)
-                    if (m.comp == kRelaxation) demRec = k;
+                    if (demSupported(m.comp)) demRec = k;
         const ExplainResult& r = recs.size() == 1 ? single : several.per[demRec];
         const DemResult d = confirmWithDem(r, recs[demRec], protocols[protocols.size() == 1 ? 0 : demRec], dem, output + "/dem");
         for (const std::string& dir : recs.size() == 1 ? std::vector<std::string>{output}

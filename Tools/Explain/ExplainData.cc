@@ -186,7 +186,16 @@ std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::
     for (double r : rate) a.push_back(std::abs(r));
     std::vector<double> s = a;
     std::sort(s.begin(), s.end());
-    const double typical = s[std::size_t(0.95 * (n - 1))];
+    double typical = s[std::size_t(0.95 * (n - 1))];
+    double mean = 0;
+    for (double r : s) mean += r / double(n);
+    if (typical < 0.1 * mean) {
+        // ramps are less than 5 % of the samples (long holds, fast ramps): the 95th percentile is a
+        // hold's round-off; take the median rate of the samples that move (above 10 % of the mean
+        // rate; the median, not the fastest, so that a glitch in the strain does not set the scale)
+        const auto first = std::upper_bound(s.begin(), s.end(), 0.1 * mean);
+        typical = *(first + (s.end() - first - 1) / 2);
+    }
     const double thr = 0.02 * typical;
     std::vector<Phase> ph(n);
     double emax = e[0];

@@ -70,7 +70,9 @@ struct PhaseSegment {
 
 /// Smoothed strain rate (local linear regression over a centred window).
 std::vector<double> smoothedRate(const std::vector<double>& t, const std::vector<double>& x, int halfWindow);
-/// Phase segments of a strain history: hold where |rate| is below 2 % of the typical ramp rate,
+/// Phase segments of a strain history: hold where |rate| is below 2 % of the typical ramp rate (the
+/// 95th percentile of |rate|, or, when that is below 10 % of the mean |rate| (ramps under 5 % of the
+/// record), the median of the samples moving faster than that),
 /// load / reload (below the previous maximum strain) / unload otherwise; short pieces merged.
 std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::vector<double>& strain);
 

@@ -1,5 +1,8 @@
 // pdpm-explain-data: inputs for pdpm-explain in the recording format.
 //   generate     --kind K --snr S --rho R --seed N --samples M [--material_seed K] --output CASE_DIR --truth TRUTH.json
+//   dem-case     --kind null|contact_relaxation --snr S --rho R --seed N --output CASE_DIR --truth TRUTH.json
+//                a case made by the OedometerRelaxation DEM (Tools/Explain/DemCases.h); CASE_DIR/model.json
+//                holds the baseline the explainer must be given
 //   thesis       --material cocoa|limestone [--device lambdameter|ft4] --output DIR [--seed N]
 //                reconstructs the protocol-1 test of thesis chapter 4 from Tables 4.4/4.5 (lambdameter;
 //                FT4 for cocoa)
@@ -13,6 +16,7 @@
 
 #include "Cli.h"
 #include "Core/Error.h"
+#include "DemCases.h"
 #include "ExplainBench.h"
 #include "IO/AtomicFile.h"
 #include "IO/Csv.h"
@@ -201,13 +205,14 @@ int importCheng(const std::string& in, const std::string& out) {
 
 int main(int argc, char** argv) {
     return tools::runTool("pdpm-explain-data", [&] {
-        if (argc < 2) inputError("usage: pdpm-explain-data generate|thesis|import-kfs|import-cheng [--help]");
+        if (argc < 2) inputError("usage: pdpm-explain-data generate|dem-case|thesis|import-kfs|import-cheng [--help]");
         const std::string cmd = argv[1];
         std::vector<std::string> args(argv + 2, argv + argc);
         tools::Cli cli("pdpm-explain-data " + cmd, "inputs for pdpm-explain (see Documentation/tools-explain.md)");
         std::string output, input, truth, kind, material, device, dataDir;
         double snr = 3, rho = 0.5;
-        int seed = 1, samples = 3000, materialSeed = 0;
+        int seed = 1, samples = 3000, materialSeed = 0, threads = 1;
+        std::string driver, driverArgs, work;
         cli.add("output", &output, "", "output directory");
         if (cmd == "generate") {
             cli.add("kind", &kind, "null", "null | MECHANISM | two:A+B | ool:bump | ool:sine");
@@ -220,6 +225,17 @@ int main(int argc, char** argv) {
                     "seed of the material (stiffness, mechanism parameters); 0: from --seed. Cases with the same "
                     "material seed are recordings of one material (device, protocol and noise from --seed)",
                     0, 2147483647);
+        } else if (cmd == "dem-case") {
+            cli.add("kind", &kind, "null", "null | contact_relaxation", {"null", "contact_relaxation"});
+            cli.add("snr", &snr, 3, "-", "peak effect (DEM with minus DEM without the mechanism) / noise sd", 0, 1e6, true, false);
+            cli.add("rho", &rho, 0.5, "-", "AR(1) coefficient of the noise", 0, 0.99);
+            cli.add("seed", &seed, 1, "seed (protocol, parameters, the DEM's bed, noise)", 0, 2147483647);
+            cli.add("samples", &samples, 2000, "samples", 50, 10000000);
+            cli.add("truth", &truth, "", "where to write the sealed truth (JSON)");
+            cli.add("work", &work, "", "folder of the DEM runs (default: TRUTH.dem)");
+            cli.add("driver", &driver, "", "OedometerRelaxation executable (default: next to this program)");
+            cli.add("driver_args", &driverArgs, "", "extra driver arguments (e.g. '--width 4 --fill_height 5' for a smaller bed)");
+            cli.add("threads", &threads, 1, "OpenMP threads of the DEM runs", 1, 256);
         } else if (cmd == "thesis") {
             cli.add("material", &material, "cocoa", "material", {"cocoa", "limestone"});
             cli.add("device", &device, "lambdameter", "device (ft4: cocoa only, Table 4.4)", {"lambdameter", "ft4"});
@@ -228,7 +244,7 @@ int main(int argc, char** argv) {
         } else if (cmd == "import-kfs" || cmd == "import-cheng") {
             cli.add("input", &input, "", "data file");
         } else {
-            inputError("unknown sub-command '" + cmd + "' (generate, thesis, import-kfs, import-cheng)");
+            inputError("unknown sub-command '" + cmd + "' (generate, dem-case, thesis, import-kfs, import-cheng)");
         }
         if (!cli.parse(args, std::cout)) return 0;
         if (output.empty()) inputError("--output is required");
@@ -236,6 +252,15 @@ int main(int argc, char** argv) {
             if (truth.empty()) inputError("--truth is required");
             CaseSpec s{kind, snr, rho, (unsigned long)seed, samples, (unsigned long)materialSeed};
             writeCase(generateCase(s), output, truth);
+            return 0;
+        }
+        if (cmd == "dem-case") {
+            if (truth.empty()) inputError("--truth is required");
+            DemCaseSpec s{kind, snr, rho, (unsigned long)seed, samples, driver, driverArgs, threads};
+            Json model;
+            const GeneratedCase g = generateDemCase(s, work.empty() ? truth + ".dem" : work, model);
+            writeCase(g, output, truth);
+            writeJsonFile(output + "/model.json", model);
             return 0;
         }
         if (cmd == "thesis") return thesis(material, device, dataDir, output, (unsigned long)seed);
