@@ -120,8 +120,8 @@ void writeComparison(const std::string& dir, const std::vector<Compared>& rows, 
     std::ostringstream g;
     g << "set terminal pngcairo size 1000,600 noenhanced\nset output " << gnuplotQuote(png + ".tmp") << "\n"
       << "set datafile separator ','\nset xlabel '" << xLabel << "'\nset ylabel 'axial stress (Pa)'\nset key left top\n"
-      << "set title 'DEM confirmation (" << d.mechanism << "): held-out RMSE " << fmt(d.heldoutBaseline) << " -> "
-      << fmt(d.heldoutAugmented) << " Pa; open symbols: held-out'\n"
+      << "set title 'DEM confirmation (" << d.mechanism << "): held-out RMSE " << std::setprecision(4) << d.heldoutBaseline << " -> "
+      << d.heldoutAugmented << " Pa; open symbols: held out'\n"
       << "plot " << gnuplotQuote(csv) << " every ::1 u 3:(stringcolumn(2) eq 'calibration' ? $4 : 1/0) w p pt 7 ps 0.5 lc rgb '#777777' t 'recording (calibration)', "
       << "'' every ::1 u 3:(stringcolumn(2) eq 'heldout' ? $4 : 1/0) w p pt 6 ps 0.7 lc rgb '#000000' t 'recording (held out)', "
       << "'' every ::1 u 3:5 w p pt 1 ps 0.5 lc rgb 'blue' t 'DEM " << d.runs[0].name << "', "
