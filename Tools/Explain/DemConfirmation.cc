@@ -435,8 +435,8 @@ DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const
         }
     };
     const auto mismatch = [&](const std::string& name) {
-        return ctx.fail("DEM run " + name + " failed or its unload/reload branches do not pair with the recording's (" +
-                        std::to_string(lab.size()) + "; log: " + name + ".log)");
+        return ctx.fail("DEM run " + name + " failed or its unload/reload branches do not pair with the recording's " +
+                        std::to_string(lab.size()) + " (same count, same phase in turn; log: " + name + ".log)");
     };
     const std::vector<Branch> base = runDem("dem_baseline", 1);
     if (!samePhases(lab, base)) return mismatch("dem_baseline");
