@@ -190,6 +190,107 @@ TEST(ExplainPhases, ShortRampsBetweenLongHolds) {
     EXPECT_TRUE(unload);
 }
 
+namespace {
+// A bed whose skeleton curve is no power law (exponential stiffening) in an oedometer protocol of
+// three ramps with holds, a partial unload, a reload beyond the last maximum and a last hold; with
+// contact relaxation (thesis Eq. 4.3 in every hold, the deficit recovered over 0.2 % of strain on
+// reloading) when C > 0. AR(1) noise (rho 0.5), sd `sigma`.
+Recording curvedBedRecording(double C, double t0, double sigma, unsigned seed) {
+    struct Seg { double dur, e1; bool hold; };
+    const std::vector<Seg> segs = {{40, 0.04, false}, {150, 0.04, true}, {30, 0.07, false}, {150, 0.07, true},
+                                   {30, 0.1, false},  {150, 0.1, true},  {10, 0.094, false}, {12, 0.103, false},
+                                   {100, 0.103, true}};
+    auto skeleton = [](double e) { return e > 0.005 ? 2e3 * (std::exp((e - 0.005) / 0.02) - 1) : 0.0; };
+    const double lam = 4;
+    Recording rec;
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> N01;
+    double t = 0, e = 0, emax = 0, D = 0, Dend = 0, eEnd = 0, th = 0, sh = 0, ar = 0;
+    bool inHold = false;
+    const double dt = 0.35;
+    double segStart = 0, segE0 = 0;
+    std::size_t k = 0;
+    while (k < segs.size()) {
+        const Seg& sg = segs[k];
+        const double f = std::min(1.0, (t - segStart) / sg.dur);
+        e = sg.hold ? sg.e1 : segE0 + (sg.e1 - segE0) * f;
+        emax = std::max(emax, e);
+        double s = e >= emax ? skeleton(e) : lam * skeleton(e) - (lam - 1) * skeleton(emax);
+        s = std::max(s, 0.0);
+        if (sg.hold && C > 0) {
+            if (!inHold) { inHold = true; th = t; sh = s - D; }
+            D = Dend + sh * (1 - std::pow(1 + (t - th) / t0, -C));
+        } else if (C > 0) {
+            if (inHold) { inHold = false; Dend = D; eEnd = e; }
+            D = Dend * std::exp(-std::max(e - eEnd, 0.0) / 0.002);
+            if (e < eEnd) D = Dend;
+        }
+        ar = 0.5 * ar + std::sqrt(1 - 0.25) * sigma * N01(rng);
+        rec.t.push_back(t);
+        rec.strain.push_back(e);
+        rec.stress.push_back(s - D + ar);
+        t += dt;
+        if (t - segStart >= sg.dur) { segStart += sg.dur; segE0 = sg.e1; ++k; }
+    }
+    rec.source = "curved bed (unit test)";
+    return rec;
+}
+} // namespace
+
+TEST(ExplainModel, LoadingCurveIsAFunctionOfStrainAloneAndOffIsIdentity) {
+    const Recording rec = curvedBedRecording(0, 1, 1, 3);
+    Protocol proto;
+    proto.height = 0.02;
+    const Model M(makeModelInput(rec, proto));
+    const auto& ks = M.knotStrains();
+    ASSERT_GE(ks.size(), 5u);
+    for (double hs : {0.04, 0.07, 0.1, 0.103})  // every virgin hold strain is a knot
+        EXPECT_TRUE(std::any_of(ks.begin(), ks.end(), [&](double k) { return std::abs(k - hs) < 1e-9; })) << hs;
+    for (std::size_t a = 0; a + 1 < ks.size(); ++a) EXPECT_LE(ks[a + 1] - ks[a], (ks.back() - ks.front()) / 8 + 1e-12);
+    const auto kp = M.paramsOf(kLoadingCurve);
+    EXPECT_EQ(kp.size(), ks.size() - 1) << "the last knot is held at 0 (E sets the level)";
+    std::vector<double> p = M.defaults();
+    p[pE] = 1e6;
+    p[pEps0] = 0.004;
+    std::vector<char> on(kNumComp, 0), onK(kNumComp, 0);
+    onK[kLoadingCurve] = 1;
+    std::vector<double> y0, yk;
+    M.evaluate(p, on, y0);
+    M.evaluate(p, onK, yk);
+    EXPECT_EQ(y0, yk) << "all knots 0: the curve is the power law";
+    for (std::size_t a = 0; a < kp.size(); ++a) p[std::size_t(kp[a])] = 0.3 * std::sin(1.0 + double(a));
+    M.evaluate(p, onK, yk);
+    double maxHoldChange = 0, maxDiff = 0;
+    for (std::size_t i = 1; i < rec.t.size(); ++i) {
+        if (rec.strain[i] == rec.strain[i - 1]) maxHoldChange = std::max(maxHoldChange, std::abs(yk[i] - yk[i - 1]));
+        maxDiff = std::max(maxDiff, std::abs(yk[i] - y0[i]));
+    }
+    EXPECT_EQ(maxHoldChange, 0.0) << "constant strain, constant stress: the knots cannot make a hold decay";
+    EXPECT_GT(maxDiff, 1e3);
+}
+
+// A null bed whose loading curve is no power law is not flagged once the baseline's loading curve is
+// free, and contact relaxation in the holds (peak effect 5 sigma) is still found, with C within 25 %.
+TEST(ExplainLoadingCurve, CurvedBedNullIsQuietAndRelaxationIsStillFound) {
+    Protocol proto;
+    proto.height = 0.02;
+    ExplainOptions opt;
+    opt.figures = false;
+    opt.baselineComps = {kPlasticity, kNonlinearity, kLoadingCurve};
+    const double C = 0.03, t0 = 2.0;
+    // peak effect: the top hold's decay, 2e3 (e^4.75 - 1) (1 - (1 + 150/t0)^-C)
+    const double peak = 2e3 * (std::exp(4.75) - 1) * (1 - std::pow(1 + 150 / t0, -C));
+    const double sigma = peak / 5;
+    const ExplainResult rn = pdpm::explain::explain(curvedBedRecording(0, t0, sigma, 7), proto, opt);
+    EXPECT_EQ(rn.verdict, "no_missing_physics") << rn.summary;
+    const ExplainResult rp = pdpm::explain::explain(curvedBedRecording(C, t0, sigma, 7), proto, opt);
+    ASSERT_EQ(rp.verdict, "missing_physics") << rp.summary;
+    ASSERT_FALSE(rp.mechanisms.empty());
+    EXPECT_EQ(rp.mechanisms.front().comp, kRelaxation);
+    ASSERT_FALSE(rp.mechanisms.front().value.empty());
+    EXPECT_NEAR(rp.mechanisms.front().value[0], C, 0.25 * C);
+}
+
 TEST(ExplainFit, RecoversRelaxationParametersFromCleanData) {
     GeneratedCase g = generateCase({"contact_relaxation", 5, 0.0, 11, 1500});
     const Model M(makeModelInput(g.rec, g.proto));

@@ -270,7 +270,7 @@ GeneratedCase generateCase(const CaseSpec& spec) {
         FitOptions fo;
         fo.freeParams = freeParamsFor(M, onB);
         std::vector<double> start = p;
-        for (int c = kRelaxation; c < kNumComp; ++c)
+        for (int c = kRelaxation; c <= kLastMechanism; ++c)
             for (int k : M.paramsOf(c))
                 if (!std::isnan(M.defs()[k].off)) start[k] = M.defs()[k].off;
         {  // the same estimator as the explainer: GLS with the (here: true) noise model

@@ -13,7 +13,16 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kCompNames[kNumComp] = {"baseline",   "instrument_compliance", "sensor_drift",
                                           "contact_relaxation", "plasticity", "cohesion",
                                           "wall_friction", "rate_dependence", "stiffness_nonlinearity",
-                                          "rolling_resistance"};
+                                          "rolling_resistance", "loading_curve"};
+constexpr std::size_t kMaxKnots = 48;
+const char* knotName(std::size_t k) {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> v;
+        for (std::size_t i = 0; i < kMaxKnots; ++i) v.push_back("curve_knot_" + std::to_string(i + 1));
+        return v;
+    }();
+    return names[k].c_str();
+}
 } // namespace
 
 const char* compName(int c) { return (c >= 0 && c < kNumComp) ? kCompNames[c] : "?"; }
@@ -23,7 +32,7 @@ int compFromName(const std::string& name) {
     return -1;
 }
 bool isNuisance(int c) { return c == kCompliance || c == kDrift; }
-bool isMechanism(int c) { return c >= kRelaxation && c < kNumComp; }
+bool isMechanism(int c) { return c >= kRelaxation && c <= kLastMechanism; }
 
 ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
     ModelInput in;
@@ -67,11 +76,61 @@ Model::Model(const ModelInput& in) : in_(in) {
         {"tau_v", "s", kRate, 0, 1e3 * tauScale, 0, tauScale, false},
         {"n", "-", kNonlinearity, 0.2, 4, 1, 0.1, false},
     };
+    // loading_curve knots: every virgin hold strain (where the stress level of a hold is set), the
+    // largest strain, and fill-in knots so that no gap exceeds epsRange/8
+    std::vector<double> ks;
+    {
+        double emax = -std::numeric_limits<double>::infinity();
+        bool inHold = false;
+        for (std::size_t i = 0; i < in.eps.size(); ++i) {
+            const bool virginHold = in.hold[i] && in.eps[i] >= emax - 1e-9 * in.epsRange;
+            if (virginHold && !inHold) ks.push_back(in.eps[i]);
+            inHold = in.hold[i];
+            emax = std::max(emax, in.eps[i]);
+        }
+        ks.push_back(in.epsMin + in.epsRange);
+        ks.push_back(in.epsMin);
+        std::sort(ks.begin(), ks.end());
+        std::vector<double> merged;
+        for (double k : ks)
+            if (merged.empty() || k - merged.back() > 0.01 * in.epsRange) merged.push_back(k);
+        for (std::size_t a = 0; a + 1 < merged.size(); ++a) {
+            knots_.push_back(merged[a]);
+            const int parts = int(std::ceil((merged[a + 1] - merged[a]) / (in.epsRange / 8) - 1e-9));
+            for (int q = 1; q < parts; ++q) knots_.push_back(merged[a] + (merged[a + 1] - merged[a]) * q / parts);
+        }
+        knots_.push_back(merged.back());
+        if (knots_.size() > kMaxKnots) {  // thin evenly (many holds)
+            std::vector<double> thin;
+            for (std::size_t q = 0; q < kMaxKnots; ++q) thin.push_back(knots_[q * (knots_.size() - 1) / (kMaxKnots - 1)]);
+            knots_ = thin;
+        }
+    }
+    // the last knot is held at 0: a common level of all knots would only rescale E
+    for (std::size_t k = 0; k + 1 < knots_.size(); ++k)
+        defs_.push_back({knotName(k), "-", kLoadingCurve, -0.95, 5.0, 0, 0.02, false});
+}
+
+void Model::limitDrift(double fraction) {
+    defs_[pDrift].hi = fraction * in_.stressMax / in_.duration;
+    defs_[pDrift].lo = -defs_[pDrift].hi;
+}
+
+double Model::curveFactor(const std::vector<double>& p, double e) const {
+    const std::size_t K = knots_.size();
+    if (K < 2) return 1.0;
+    auto val = [&](std::size_t k) { return k + 1 < K ? p[kNumPar + k] : 0.0; };
+    if (e <= knots_[0]) return 1.0 + val(0);
+    if (e >= knots_[K - 1]) return 1.0;
+    const std::size_t hi = std::size_t(std::upper_bound(knots_.begin(), knots_.end(), e) - knots_.begin());
+    const std::size_t lo = hi - 1;
+    const double f = (e - knots_[lo]) / (knots_[hi] - knots_[lo]);
+    return 1.0 + (1 - f) * val(lo) + f * val(hi);
 }
 
 std::vector<double> Model::defaults() const {
-    std::vector<double> p(kNumPar);
-    for (int k = 0; k < kNumPar; ++k) p[k] = std::isnan(defs_[k].off) ? 0 : defs_[k].off;
+    std::vector<double> p(defs_.size());
+    for (std::size_t k = 0; k < defs_.size(); ++k) p[k] = std::isnan(defs_[k].off) ? 0 : defs_[k].off;
     p[pE] = in_.stressMax / in_.epsRange;
     p[pEps0] = in_.epsMin;
     p[pRelaxT0] = 1.0;
@@ -80,8 +139,8 @@ std::vector<double> Model::defaults() const {
 
 std::vector<int> Model::paramsOf(int c) const {
     std::vector<int> out;
-    for (int k = 0; k < kNumPar; ++k)
-        if (defs_[k].comp == c) out.push_back(k);
+    for (std::size_t k = 0; k < defs_.size(); ++k)
+        if (defs_[k].comp == c) out.push_back(int(k));
     return out;
 }
 
@@ -99,6 +158,7 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
     const double muK = on[kWallFriction] ? p[pMuK] : 0.0;
     const double a = on[kDrift] ? p[pOffset] : 0.0, b = on[kDrift] ? p[pDrift] : 0.0;
     const bool linear = nExp == 1.0;
+    const bool curve = on[kLoadingCurve] && !knots_.empty();
     // cohesion: the cohesive bonds hold a looser packing on first loading, which yields an extra
     // compaction of strain scale x_c = sigma_c / E (first-loading curve E x^2 / (x + x_c) instead of
     // E x; the collapse is permanent, so unloading and reloading keep the deficit reached at the
@@ -109,7 +169,8 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
     auto virgin = [&](double e) {  // elastic skeleton curve (linear extension into tension with cohesion)
         const double x = e - e0;
         if (x <= 0) return coh ? E * x : 0.0;
-        return linear ? E * x : E * er * std::pow(x / er, nExp);
+        const double s = linear ? E * x : E * er * std::pow(x / er, nExp);
+        return curve ? s * curveFactor(p, e) : s;
     };
     auto loose = [&](double e) {  // stress deficit of the loose cohesive packing on first loading
         const double x = e - e0;
@@ -117,7 +178,8 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
     };
     auto tangent = [&](double e) {
         const double x = std::max(e - e0, 1e-9 * er);
-        return linear ? E : E * nExp * std::pow(x / er, nExp - 1);
+        const double k = linear ? E : E * nExp * std::pow(x / er, nExp - 1);
+        return curve ? k * std::max(curveFactor(p, e), 0.05) : k;
     };
     const int passes = kap > 0 ? 4 : 1;
     std::vector<double> inner(n, 0.0);
@@ -299,7 +361,7 @@ FitResult fitModel(const Model& model, const std::vector<double>& y, const std::
     res.iterations = it;
     res.rss = cost;
     res.model = mvals;
-    res.se.assign(kNumPar, 0.0);
+    res.se.assign(defs.size(), 0.0);
     if (k > 0) {
         jacobian(res.p, mvals);
         double nw = 0;

@@ -22,6 +22,11 @@
 //                   u = m * 4 muK H(eps)/D, m = +1 loading, -1 unloading (mobilised over 2 % of the
 //                   strain range); off: muK = 0
 //   rolling_resistance  acts on the lateral stress / q-p ratio only: not testable on axial stress
+//   loading_curve   (baseline only, never a candidate) a free shape of the skeleton curve: s_v(e) is
+//                   multiplied by 1 + c(e), c piecewise linear in strain through knots at every virgin
+//                   hold strain and at most epsRange/8 apart, the last held at 0 (E sets the level; off: every knot 0). A function of strain
+//                   alone, so it cannot imitate anything that happens at constant strain (hold decay,
+//                   rate steps); it absorbs stiffness_nonlinearity, which is then not tested
 //   instrument_compliance (nuisance)  eps_true = eps_meas - kappa/E * stress (off: kappa = 0)
 //   sensor_drift (nuisance)           stress + a + b (t - t_0) (off: a = b = 0)
 #pragma once
@@ -44,8 +49,10 @@ enum Comp : int {
     kRate,
     kNonlinearity,
     kRolling,
+    kLoadingCurve,
     kNumComp
 };
+constexpr int kLastMechanism = kRolling;  ///< mechanisms are kRelaxation..kLastMechanism
 
 /// Public names: "contact_relaxation", "instrument_compliance", ...
 const char* compName(int c);
@@ -53,6 +60,7 @@ int compFromName(const std::string& name);  ///< -1 if unknown
 bool isNuisance(int c);
 bool isMechanism(int c);
 
+/// Fixed parameters; the loading_curve knots follow from index kNumPar on (Model::knotStrains()).
 enum Par : int {
     pE = 0, pEps0, pKappa, pOffset, pDrift, pRelaxC, pRelaxT0, pLambda, pTension, pMuK, pTauV, pExpN, kNumPar
 };
@@ -88,10 +96,17 @@ public:
     void evaluate(const std::vector<double>& p, const std::vector<char>& on, std::vector<double>& out) const;
     /// Parameter indices that belong to component c.
     std::vector<int> paramsOf(int c) const;
+    /// Narrows the sensor drift to |drift_rate| <= fraction * stressMax / duration (used with
+    /// loading_curve, where a drift shows only in the holds and would otherwise take their decay).
+    void limitDrift(double fraction);
+    /// Strains of the loading_curve knots (parameter kNumPar + k belongs to knot k; the last knot has none).
+    const std::vector<double>& knotStrains() const { return knots_; }
 
 private:
+    double curveFactor(const std::vector<double>& p, double e) const;  ///< 1 + c(e) of loading_curve
     ModelInput in_;
     std::vector<ParDef> defs_;
+    std::vector<double> knots_;
 };
 
 struct FitResult {
