@@ -101,8 +101,9 @@ int main() {
         ok &= check(onPhases && holdAmong, "truth windows are protocol phases, holds among them");
     }
     const auto& base = model.at("baseline").asArray();
-    ok &= check(base.size() == 2 && base[0].asString() == "stiffness_nonlinearity" && base[1].asString() == "plasticity",
-                "MODEL.json: the bed's stiffness_nonlinearity and plasticity are baseline");
+    ok &= check(base.size() == 3 && base[0].asString() == "stiffness_nonlinearity" && base[1].asString() == "plasticity" &&
+                    base[2].asString() == "loading_curve",
+                "MODEL.json: the bed's stiffness_nonlinearity, plasticity and free loading curve are baseline");
 
     DemCaseSpec nul = spec;
     nul.kind = "null";
