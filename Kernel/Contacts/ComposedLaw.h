@@ -7,6 +7,9 @@
 #include <cmath>
 #include <string>
 #include <type_traits>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "Boundaries/MinimumImage.h"
 #include "Contacts/ContactLaw.h"
@@ -316,10 +319,16 @@ public:
         NeighbourList& nl = c.neighbours;
         const MinimumImage img(c.box);
         const bool periodic = img.p[0] || img.p[1] || img.p[2];
-        for (const auto& phase : nl.phases) {
-            const int nPhase = static_cast<int>(phase.size());
-#pragma omp parallel for schedule(dynamic, 1)
-            for (int q = 0; q < nPhase; ++q) {
+        for (std::size_t ph = 0; ph < nl.phases.size(); ++ph) {
+            const std::vector<int>& phase = nl.phases[ph];
+#pragma omp parallel
+            {
+#ifdef _OPENMP
+            const auto [qa, qb] = nl.threadSlabs(ph, omp_get_thread_num(), omp_get_num_threads());
+#else
+            const auto [qa, qb] = nl.threadSlabs(ph, 0, 1);
+#endif
+            for (int q = qa; q < qb; ++q) {
                 const int s = phase[q];
                 double energy = 0;
                 std::vector<ContactRecord>* rec = c.record ? &(*c.records)[s] : nullptr;
@@ -329,6 +338,7 @@ public:
                     c.angularVelocity, P.r.data(), P.invM.data(), P.m.data(), P.species.data(), P.f.data(), P.t.data(),
                     nl.history.data(), img, c.species, c.dt, c.time, rec, energy);
                 if (rec) (*c.energy)[s] = energy;
+            }
             }
         }
     }

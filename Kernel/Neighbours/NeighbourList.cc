@@ -115,7 +115,31 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     for (const auto& ph : phases)
         for (int s : ph) ok = ok && s >= 0 && s + 1 < static_cast<int>(slabStart.size());
     if (!ok) inputError("restart: inconsistent neighbour-list section");
+    for (auto& ph : phases) std::sort(ph.begin(), ph.end());  // older files: largest slab first
+    countPhasePairs();
     valid_ = true;
+}
+
+void NeighbourList::countPhasePairs() {
+    phasePairs.resize(phases.size());
+    for (std::size_t p = 0; p < phases.size(); ++p) {
+        phasePairs[p].assign(phases[p].size() + 1, 0);
+        for (std::size_t q = 0; q < phases[p].size(); ++q)
+            phasePairs[p][q + 1] = phasePairs[p][q] + (slabStart[phases[p][q] + 1] - slabStart[phases[p][q]]);
+    }
+}
+
+std::pair<int, int> NeighbourList::threadSlabs(std::size_t p, int thread, int threads) const {
+    const std::vector<std::size_t>& pre = phasePairs[p];
+    const int n = static_cast<int>(pre.size()) - 1;
+    // thread t starts at the first slab with at least t/threads of the phase's pairs before it
+    auto start = [&](int t) {
+        if (t <= 0) return 0;
+        if (t >= threads) return n;
+        const std::size_t target = pre[n] * static_cast<std::size_t>(t) / static_cast<std::size_t>(threads);
+        return static_cast<int>(std::lower_bound(pre.begin(), pre.begin() + n, target) - pre.begin());
+    };
+    return {start(thread), start(thread + 1)};
 }
 
 // history[k] <- old history[src[k]] (none: zeros) for k < src.size(), in place; src is injective
@@ -427,12 +451,10 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
         if (!last.empty()) phases.push_back(last);
     }
     // Within a phase, the slabs touch disjoint particles, so the order in which they are handed to
-    // the threads does not change any result; largest first (by pairs) balances the threads of
-    // non-uniform systems (a settled bed: the top slabs are thin).
-    for (auto& ph : phases)
-        std::stable_sort(ph.begin(), ph.end(), [&](int a, int b) {
-            return slabStart[a + 1] - slabStart[a] > slabStart[b + 1] - slabStart[b];
-        });
+    // the threads does not change any result. Each thread takes a contiguous run of slabs with an
+    // equal share of the pairs (threadSlabs): balanced for non-uniform systems (a settled bed's thin
+    // top slabs) and, unlike a dynamic hand-out, the same particles for the same thread every step.
+    countPhasePairs();
 
     // ---- history transfer: new pair k takes the history of old pair src[k] (or zeros) -------------
     const std::size_t H = static_cast<std::size_t>(hsize);

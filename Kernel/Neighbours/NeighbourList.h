@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "Math/Vec3.h"
@@ -45,7 +46,14 @@ public:
     std::vector<uint32_t> pairI, pairJ;  ///< canonical i < j
     std::vector<double> history;         ///< historySize doubles per pair
     std::vector<std::size_t> slabStart;  ///< pairs of slab s: [slabStart[s], slabStart[s+1])
-    std::vector<std::vector<int>> phases;///< slabs processed together; phases run one after another
+    std::vector<std::vector<int>> phases;///< slabs processed together (ascending); phases run one after another
+    /// Pairs of the slabs of phase p before its q-th slab: phasePairs[p][q] (size phases[p].size() + 1).
+    std::vector<std::vector<std::size_t>> phasePairs;
+    /// Slabs [first, last) of phase p that thread `thread` of `threads` handles: a contiguous run of
+    /// slabs with about 1/threads of the phase's pairs. Contiguous slabs hold contiguous particle
+    /// ranges (the cell numbering follows memory order), so each thread keeps working on the
+    /// particles that the statically scheduled integration passes give it (cache affinity).
+    std::pair<int, int> threadSlabs(std::size_t p, int thread, int threads) const;
     int historySize = 0;
 
     // ---- wall data: particles near wall w are wallParticle[wallStart[w] .. wallStart[w+1]) ------
@@ -64,6 +72,7 @@ public:
     void read(std::istream& is, std::size_t nParticles, std::size_t nWalls);
 
 private:
+    void countPhasePairs();
     double skin_ = 0;
     double skinUsed_ = 0;
     bool valid_ = false;
