@@ -21,7 +21,12 @@ std::size_t NeighbourList::bytes() const {
     return (pairI.capacity() + pairJ.capacity() + wallParticle.capacity() + cellStart_.capacity() +
             cellList_.capacity()) * sizeof(uint32_t) +
            (history.capacity() + wallHistory.capacity()) * sizeof(double) + x0_.capacity() * sizeof(Vec3) +
-           slabStart.capacity() * sizeof(std::size_t);
+           slabStart.capacity() * sizeof(std::size_t) + [&] {
+               std::size_t b = 0;
+               for (const auto& v : phasePairs) b += v.capacity() * sizeof(std::size_t);
+               for (const auto& v : phases) b += v.capacity() * sizeof(int);
+               return b;
+           }();
 }
 
 bool NeighbourList::needsRebuild(double maxD, const ParticleData& p, const PeriodicBox& box, const WallList& walls) const {

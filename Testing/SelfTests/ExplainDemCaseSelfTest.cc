@@ -5,7 +5,7 @@
 //     macroscopic C between 0.3 and 1.1 times it; the noise sd is the peak of |with - without| over
 //     the SNR, recomputed here from the two runs' own recordings; the truth windows are protocol
 //     phases and the one with the largest share is a hold; the case folder is valid explainer input
-//     and its MODEL.json puts stiffness_nonlinearity and plasticity into the baseline;
+//     and its MODEL.json puts stiffness_nonlinearity, plasticity and loading_curve into the baseline;
 //  2. its null twin (same seed and work folder): the two runs are reused, the record is the run
 //     without relaxation, with the same noise sd; no mechanism, no window.
 // About a minute of CPU (two small DEM runs); label heavy (left out of the sanitizer suite).

@@ -191,7 +191,7 @@ TEST(ExplainPhases, ShortRampsBetweenLongHolds) {
 }
 
 namespace {
-// A bed whose skeleton curve is no power law (exponential stiffening) in an oedometer protocol of
+// A bed whose skeleton curve is no power law (exponential stiffening with a wave) in an oedometer protocol of
 // three ramps with holds, a partial unload, a reload beyond the last maximum and a last hold; with
 // contact relaxation (thesis Eq. 4.3 in every hold, the deficit recovered over 0.2 % of strain on
 // reloading) when C > 0. AR(1) noise (rho 0.5), sd `sigma`.
@@ -200,7 +200,9 @@ Recording curvedBedRecording(double C, double t0, double sigma, unsigned seed) {
     const std::vector<Seg> segs = {{40, 0.04, false}, {150, 0.04, true}, {30, 0.07, false}, {150, 0.07, true},
                                    {30, 0.1, false},  {150, 0.1, true},  {10, 0.094, false}, {12, 0.103, false},
                                    {100, 0.103, true}};
-    auto skeleton = [](double e) { return e > 0.005 ? 2e3 * (std::exp((e - 0.005) / 0.02) - 1) : 0.0; };
+    auto skeleton = [](double e) {  // exponential stiffening with a +-15 % wave along the strain
+        return e > 0.005 ? 2e3 * (std::exp((e - 0.005) / 0.02) - 1) * (1 + 0.15 * std::sin(2 * M_PI * (e - 0.005) / 0.05)) : 0.0;
+    };
     const double lam = 4;
     Recording rec;
     std::mt19937_64 rng(seed);

@@ -2,7 +2,7 @@
 # DEM-made blind-benchmark cases (Tools/Explain/DemCases.h): recordings produced by the project's own
 # DEM (OedometerRelaxation, cocoa meso-particles without adhesion, periodic bed) with contact
 # relaxation on (peak SNR 3 and 5) or off (nulls), explained with the bed's own behaviour
-# (stiffness_nonlinearity, plasticity) in the baseline and scored against the sealed truth.
+# (stiffness_nonlinearity, plasticity, loading_curve) in the baseline and scored against the sealed truth.
 # PDPM_DEM_CASES (default 4) cases per SNR and as many nulls; about a minute of DEM per run, two
 # runs per positive case. Writes summary.md; with --update-doc replaces the measured section of
 # Documentation/tools-explain.md. Fails only when a run fails (the figures are reported, not gated).

@@ -40,8 +40,6 @@ std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on, int 
 
 namespace {
 
-constexpr double kLoadingCurveDriftLimit = 0.02;
-
 /// A small "on" value of each component's parameters, for templates and start points.
 std::vector<std::vector<double>> startsFor(const Model& m, int c, const std::vector<double>& p) {
     std::vector<std::vector<double>> out;
@@ -400,9 +398,9 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     Model M(in);
     // a free loading curve absorbs everything that depends on strain alone, so a sensor drift is seen
     // only in the holds, where it cannot be told apart from their decay: bound it to what a working
-    // load cell drifts (2 % of the recorded stress range over the whole record)
-    if (std::find(opt.baselineComps.begin(), opt.baselineComps.end(), int(kLoadingCurve)) != opt.baselineComps.end())
-        M.limitDrift(kLoadingCurveDriftLimit);
+    // load cell drifts (2 % of the largest recorded |stress| over the whole record)
+    M.limitsForLoadingCurve(std::find(opt.baselineComps.begin(), opt.baselineComps.end(), int(kLoadingCurve)) !=
+                            opt.baselineComps.end());
     const std::size_t n = rec.size();
     const std::vector<double>& y = rec.stress;
     std::mt19937_64 rng(opt.seed);

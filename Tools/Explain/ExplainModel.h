@@ -96,9 +96,14 @@ public:
     void evaluate(const std::vector<double>& p, const std::vector<char>& on, std::vector<double>& out) const;
     /// Parameter indices that belong to component c.
     std::vector<int> paramsOf(int c) const;
-    /// Narrows the sensor drift to |drift_rate| <= fraction * stressMax / duration (used with
-    /// loading_curve, where a drift shows only in the holds and would otherwise take their decay).
+    /// Narrows the sensor drift to |drift_rate| <= fraction * stressMax / duration (stressMax: the
+    /// largest recorded |stress|).
     void limitDrift(double fraction);
+    /// With loading_curve on, a drift shows only in the holds, where it would take their decay: the
+    /// drift is bounded to 2 % of stressMax over the record. Every fit with loading_curve calls this.
+    void limitsForLoadingCurve(bool loadingCurveOn) {
+        if (loadingCurveOn) limitDrift(0.02);
+    }
     /// Strains of the loading_curve knots (parameter kNumPar + k belongs to knot k; the last knot has none).
     const std::vector<double>& knotStrains() const { return knots_; }
 

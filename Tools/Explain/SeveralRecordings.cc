@@ -36,8 +36,9 @@ Transfer transfer(const std::vector<Recording>& recs, const std::vector<Protocol
     T.from = a;
     T.to = b;
     T.mechanisms = mechs;
-    const Model M(makeModelInput(recs[b], protos[b]));
     const ExplainResult& own = per[b];
+    Model M(makeModelInput(recs[b], protos[b]));
+    M.limitsForLoadingCurve(own.onBaseline[kLoadingCurve] != 0);  // as in its own explain()
     const std::vector<char>& on = own.onBaseline;  // its baseline model; its own mechanisms stay off
     const FitResult base = fitDevice(M, recs[b], own, on, {own.pBaseline, own.pFinal});
     std::vector<char> onAug = on;
