@@ -36,6 +36,7 @@ public:
         p.add("fill_height", &fillHeight_, 6, "d_mean", "height of the levelled bed (periodic: in mean diameters)", Range::positive());
         p.add("fill_height_m", &fillHeightM_, 0, "m", "height of the levelled bed in metres (0: use fill_height)", Range::nonNegative());
         p.add("wall_friction", &muWall_, 0.2, "-", "wall friction mu_w (bottom, piston, mould)", Range::nonNegative());
+        p.add("fill_wall_friction", &fillMuWall_, -1, "-", "wall friction while the bed is poured (-1: the same as --wall_friction)", Range::atLeast(-1));
         p.add("material", &material_, "cocoa", "material preset", {"cocoa", "frictional"});
         p.add("k_over_k1", &kOverK1_, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
         p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
@@ -214,6 +215,8 @@ private:
         }
         if (kcOverK_ >= 0) mat_.pp.kc = kcOverK_ * mat_.pp.k;  // particle-wall contacts stay non-adhesive
         else if (kcOverK_ != -1) inputError("--kc_over_k: expected -1 (the material's value) or a value >= 0, got " + fmt(kcOverK_));
+        if (fillMuWall_ < 0 && fillMuWall_ != -1)
+            inputError("--fill_wall_friction: expected -1 (the same as --wall_friction) or a value >= 0, got " + fmt(fillMuWall_));
         mat_.dMean = dMean_;
         grainDensity_ = mat_.density;
         grainSize_ = dMean_;
@@ -221,7 +224,10 @@ private:
     void setupSpecies(DPMBase& d, double relaxC, bool settling = false) {
         ContactParameters pp = mat_.pp, pw = mat_.pw;
         pp.relaxC = pw.relaxC = relaxC;
-        if (settling) pp.kc = 0;
+        if (settling) {
+            pp.kc = 0;
+            if (fillMuWall_ >= 0) pw.muS = pw.muD = fillMuWall_;
+        }
         d.setContactLaw(parameters().get("contact_law"));
         const int a = d.addSpecies(mat_.name, mat_.density, pp);
         const int w = d.addSpecies("wall", mat_.density, pp);
@@ -234,7 +240,7 @@ private:
 
     std::string geometry_, device_, material_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0;
-    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1;
+    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, fillMuWall_ = -1;
     bool gravityOn_ = true;
     OedometerMaterial mat_;
     long mouldWall_ = -1;

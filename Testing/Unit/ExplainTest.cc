@@ -499,6 +499,16 @@ TEST(ExplainInput, BadInputsAreInputErrors) {
     writeWholeFile(d + "/model.json", R"({"candidates":["no_such_mechanism"]})");
     ExplainOptions o;
     EXPECT_THROW(readModelFile(d + "/model.json", o), InputError);
+    // a known component in the wrong list: the message says where it belongs
+    for (const auto& [name, where] : {std::pair<std::string, std::string>{"loading_curve", "baseline only"}, {"sensor_drift", "a nuisance"}}) {
+        writeWholeFile(d + "/model.json", R"({"candidates":[")" + name + R"("]})");
+        try {
+            readModelFile(d + "/model.json", o);
+            ADD_FAILURE() << name << " accepted as a candidate";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+        }
+    }
 }
 
 TEST(ExplainBenchmarkSubset, NullCasesSayNoMissingPhysics) {
@@ -691,6 +701,96 @@ awk -v r="$ratio" -v sc="$scale" 'BEGIN {
         shortRec.stress.push_back(rec.stress[i]);
     }
     EXPECT_EQ(confirmWithDem(r, shortRec, dir + "/p.json", opt, dir + "/dem2").status, "not_run");
+}
+
+// The wall_friction DEM confirmation against a stand-in driver whose bulk unloading ratio is
+// 1 + 3 mu_w (a mould with wall friction unloads stiffer than it loads: the friction turns round):
+// the mould keeps the recording's aspect ratio H/D at the fast size (12 mean diameters across, at
+// least 4 high), every bed is poured with frictionless walls, the baseline has frictionless walls,
+// the augmented runs mu_w = g, g/2, 2g with g = 2 mu_w K (K ~ 0.5), and the one with the smallest
+// calibration error is scored. A protocol without the device's size cannot say which mould to build.
+TEST(ExplainCommand, DemConfirmationWallFrictionBuildsTheMouldAndChoosesMuW) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    writeWholeFile(dir + "/driver.sh", R"(#!/bin/sh
+out= name= mu= scale= geom= dia= fill= fmu=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --output) out=$2; shift;; --name) name=$2; shift;; --wall_friction) mu=$2; shift;; --stress_scale) scale=$2; shift;;
+    --geometry) geom=$2; shift;; --diameter) dia=$2; shift;; --fill_height_m) fill=$2; shift;; --fill_wall_friction) fmu=$2; shift;;
+    --*) case "$2" in --*|'') ;; *) shift;; esac;;
+  esac; shift
+done
+echo "$mu $scale $geom $dia $fill $fmu" >> "$out/calls.txt"
+awk -v m="$mu" -v sc="$scale" 'BEGIN {
+  lam = 1 + 3 * m; E = 2e6 * sc; em = 0.03; ez = em - em / lam; n = 200; t = 0
+  print "time_s,axial_strain,axial_stress_Pa"
+  for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
+  for (i = 1; i <= n; i++) { e = em - (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
+  for (i = 1; i <= n; i++) { e = ez + (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
+  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
+}' > "$out/$name.recording.csv"
+)");
+    std::filesystem::permissions(dir + "/driver.sh", std::filesystem::perms::owner_all);
+    const std::string steps = R"("steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 15000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 0},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 18000}]})";
+    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "flour"},
+ )" + steps);
+    Recording rec;
+    elasticPlasticRecord(8e6, 0.004, 1.75, 40, rec.strain, rec.stress);  // lab ratio 1.75: mu_w 0.25 for the stand-in
+    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
+    ExplainResult r;
+    MechanismResult m;
+    m.comp = kWallFriction;
+    m.params = {pMuK};
+    m.value = {0.2};  // the surrogate's mu_w K: runs at mu_w = 0.4, 0.2, 0.8 (ratios 2.2, 1.6, 3.4)
+    r.mechanisms.push_back(m);
+    DemOptions opt;
+    opt.driver = dir + "/driver.sh";
+    std::filesystem::create_directories(dir + "/dem");
+    const DemResult d = confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+    ASSERT_EQ(d.status, "done") << d.reason;
+    EXPECT_EQ(d.mechanism, "wall_friction");
+    EXPECT_EQ(d.calibrationHolds, 1);
+    EXPECT_EQ(d.heldoutHolds, 1);
+    EXPECT_EQ(d.stressScale, 1.0) << "18 kPa is inside the material's range";
+    // H/D = 0.02/0.07: 30 mm across would be 8.6 mm high, under 4 diameters; 10 mm high, 35 mm across
+    EXPECT_NEAR(d.mouldHeight, 0.01, 1e-12);
+    EXPECT_NEAR(d.mouldDiameter, 0.035, 1e-12);
+    EXPECT_NEAR(d.labMacro, 1.75, 0.02);
+    ASSERT_EQ(d.runs.size(), 4u);
+    EXPECT_EQ(d.runs[0].name, "dem_baseline");
+    EXPECT_EQ(d.runs[0].wallFriction, 0.0);
+    EXPECT_EQ(d.runs[1].name, "dem_wall_a");
+    EXPECT_NEAR(d.runs[1].wallFriction, 0.4, 1e-12);
+    EXPECT_NEAR(d.runs[1].macro, 2.2, 0.02);
+    EXPECT_EQ(d.runs[2].name, "dem_wall_b");
+    EXPECT_NEAR(d.runs[2].wallFriction, 0.2, 1e-12);
+    EXPECT_NEAR(d.runs[2].macro, 1.6, 0.02);
+    EXPECT_EQ(d.runs[3].name, "dem_wall_c");
+    EXPECT_NEAR(d.runs[3].wallFriction, 0.8, 1e-12);
+    EXPECT_EQ(d.chosen, 2) << "ratio 1.6 is the closest to the lab's 1.75";
+    EXPECT_GT(d.heldoutBaseline, 0.0);
+    // linear branches: the held-out error is proportional to the ratio's miss, 0.15 against 0.75
+    EXPECT_NEAR(d.heldoutAugmented / d.heldoutBaseline, 0.2, 0.03) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
+    const std::string calls = readWholeFile(dir + "/dem/calls.txt");
+    EXPECT_EQ(calls.substr(0, calls.find('\n')), "0 1 cylinder 0.035 0.01 0") << calls;
+    const Json j = demJson(d);
+    EXPECT_EQ(j.at("chosen_run").asString(), "dem_wall_b");
+    EXPECT_NEAR(j.at("mould_diameter_m").asNumber(), 0.035, 1e-12);
+    EXPECT_EQ(j.at("unload_ratio_min_y").asNumber(), 0.6) << "the top of the unload, where the wall shear turns round";
+    EXPECT_NEAR(j.at("runs").asArray("runs")[2].at("wall_friction").asNumber(), d.runs[2].wallFriction, 1e-12);
+    EXPECT_NE(demMarkdown(d).find("wall friction"), std::string::npos);
+
+    // no device size in the protocol: the mould's aspect ratio is unknown
+    writeWholeFile(dir + "/p2.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer"}, "material": {"name": "flour"},
+ )" + steps);
+    const DemResult none = confirmWithDem(r, rec, dir + "/p2.json", opt, dir + "/dem2");
+    EXPECT_EQ(none.status, "not_run");
+    EXPECT_NE(none.reason.find("aspect ratio"), std::string::npos) << none.reason;
 }
 
 // ---- several recordings of one material -----------------------------------------------------------

@@ -245,14 +245,15 @@ double branchRmse(const std::vector<Branch>& lab, const std::vector<Branch>& dem
 }
 
 /// Unloading stiffness over loading tangent measured on the unload branches in `which`: the slope
-/// lambda of 1 - y = lambda u through the origin over the samples with y >= 0.2 (the tail near
-/// zero stress is left out). The same estimator on the lab and on the DEM record.
-double unloadRatio(const std::vector<Branch>& b, const std::vector<std::size_t>& which) {
+/// lambda of 1 - y = lambda u through the origin over the samples with y >= yMin (plasticity: 0.2,
+/// the tail near zero stress left out; wall_friction: 0.6, the top of the unload where the wall
+/// shear turns round). The same estimator on the lab and on the DEM record.
+double unloadRatio(const std::vector<Branch>& b, const std::vector<std::size_t>& which, double yMin) {
     double suy = 0, suu = 0;
     for (std::size_t k : which) {
         if (k >= b.size() || b[k].phase != Phase::Unload) continue;
         for (std::size_t i = 0; i < b[k].u.size(); ++i)
-            if (b[k].y[i] >= 0.2) suy += b[k].u[i] * (1 - b[k].y[i]), suu += b[k].u[i] * b[k].u[i];
+            if (b[k].y[i] >= yMin) suy += b[k].u[i] * (1 - b[k].y[i]), suu += b[k].u[i] * b[k].u[i];
     }
     return suu > 0 ? suy / suu : -1;
 }
@@ -277,15 +278,17 @@ struct DemContext {
     std::string driver, workDir;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     DemResult& d;
+    /// geometry arguments of every run (empty: the driver's default laterally periodic bed; ft4: the
+    /// FT4 mould, without the preset's protocol: the recording's is used)
+    std::string geometry = opt.mode == "ft4" ? " --geometry cylinder --device ft4 --diameter 0.05 --fill_height_m 0.05" : "";
 
     /// Runs the driver with the recording's protocol and `args`; false when it failed.
     bool run(DemRun run, const std::string& protocolPath, const std::string& args) {
         std::ostringstream cmd;
         cmd << shellQuote(driver) << " --protocol_file " << shellQuote(protocolPath) << args << " --output " << shellQuote(workDir) << " --name "
             << run.name << " --threads " << opt.threads << " --quiet --vtk 0 --ene 0";
-        // the FT4 mould with the driver's ft4 preset (without its protocol: the recording's is used)
-        if (opt.mode == "ft4")
-            cmd << " --geometry cylinder --device ft4 --diameter 0.05 --fill_height_m 0.05 --hold_tau 0.005 --ramp_rate 1";
+        cmd << geometry;
+        if (opt.mode == "ft4") cmd << " --hold_tau 0.005 --ramp_rate 1";  // the driver's ft4 preset's numerical settings
         run.command = cmd.str();
         const auto t1 = std::chrono::steady_clock::now();
         const int rc = std::system((run.command + " > " + shellQuote(workDir + "/" + run.name + ".log") + " 2>&1").c_str());
@@ -388,14 +391,27 @@ DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const
     return ctx.finish();
 }
 
-DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const Recording& rec, const std::string& protocolPath) {
-    DemResult& d = ctx.d;
-    d.mechanism = "plasticity";
-    double lam = -1;
-    for (std::size_t q = 0; q < plast.params.size(); ++q)
-        if (plast.params[q] == pLambda) lam = plast.value[q];
-    if (!(lam > 1)) return ctx.fail("the accepted plasticity term has no unloading stiffness ratio above 1");
+/// The ingredient a branch confirmation calibrates: a driver flag whose value `base` is the baseline
+/// (no effect); in secant mode (empty grid) it must make the unloading ratio (over the samples with
+/// y >= yMin) grow.
+struct BranchKnob {
+    std::string mechanism, flag, prefix;  ///< report name, driver flag, run-name prefix
+    double base = 0, lo = 0, hi = 0;      ///< baseline value and the range of the augmented runs
+    double guess = 0;                     ///< first augmented run (clamped to [lo, hi])
+    std::string args;                     ///< fixed arguments of every run
+    double DemRun::* field = nullptr;     ///< where a run keeps the knob's value
+    double yMin = 0.2;                    ///< the unloading ratio uses the unload samples with y >= yMin
+    /// empty: calibrate by the secant on the unloading ratio; else one run at guess * each factor,
+    /// the one with the smallest calibration error chosen (for a ratio too noisy to aim at)
+    std::vector<double> grid = {};
+};
 
+/// plasticity and wall_friction: the unloads calibrate the knob (plasticity: secant on the unloading
+/// ratio; wall_friction: a grid around the guess chosen by the calibration error), the reloads after
+/// them are held out (DemConfirmation.h).
+DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recording& rec, const std::string& protocolPath) {
+    DemResult& d = ctx.d;
+    d.mechanism = knob.mechanism;
     // lab branches: the unloads calibrate, the reloads are held out
     const std::vector<Branch> lab = cycleBranches(rec.t, rec.strain, rec.stress);
     std::vector<std::size_t> cal, held;
@@ -408,7 +424,8 @@ DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const
     }
     d.calibrationHolds = static_cast<int>(cal.size());
     d.heldoutHolds = static_cast<int>(held.size());
-    const double labRatio = unloadRatio(lab, cal);
+    d.ratioYMin = knob.yMin;
+    const double labRatio = unloadRatio(lab, cal, knob.yMin);
     if (!(labRatio > 0)) return ctx.fail("no unloading stiffness could be measured on the calibration branches of the recording");
 
     // the protocol's stresses brought into the material's range (Luding's law is piecewise linear
@@ -422,11 +439,11 @@ DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const
     if (!(maxTarget > 0)) return ctx.fail("the protocol has no target stress");
     d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
 
-    auto runDem = [&](const std::string& name, double ratio) -> std::vector<Branch> {
+    auto runDem = [&](const std::string& name, double value) -> std::vector<Branch> {
         DemRun run;
         run.name = name;
-        run.kOverK1 = ratio;
-        const std::string args = " --relax_C 0 --kc_over_k 0 --k_over_k1 " + fmt(ratio) + " --stress_scale " + fmt(d.stressScale);
+        run.*knob.field = value;
+        const std::string args = knob.args + " " + knob.flag + " " + fmt(value) + " --stress_scale " + fmt(d.stressScale);
         if (!ctx.run(run, protocolPath, args)) return {};
         try {
             return readDemBranches(ctx.workDir + "/" + name);
@@ -438,36 +455,42 @@ DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const
         return ctx.fail("DEM run " + name + " failed or its unload/reload branches do not pair with the recording's " +
                         std::to_string(lab.size()) + " (same count, same phase in turn; log: " + name + ".log)");
     };
-    const std::vector<Branch> base = runDem("dem_baseline", 1);
-    if (!samePhases(lab, base)) return mismatch("dem_baseline");
-    const double ratioA = std::clamp(lam, 1.05, kMaxKOverK1);
-    const std::vector<Branch> augA = runDem("dem_plastic_a", ratioA);
-    if (!samePhases(lab, augA)) return mismatch("dem_plastic_a");
-    // second run: the secant through (1, baseline's ratio) and (k/k1 of run a, its ratio) aimed at
-    // the recording's measured ratio
-    const double r0 = unloadRatio(base, cal), rA = unloadRatio(augA, cal);
-    if (!(rA > r0 + 1e-3))
-        return ctx.fail("the DEM bed's unloading ratio did not grow with k/k1 (" + fmt(r0) + " at k/k1 = 1, " + fmt(rA) + " at " + fmt(ratioA) +
-                        "): no calibration possible");
-    const double ratioB = std::clamp(1 + (ratioA - 1) * (labRatio - r0) / (rA - r0), 1.05, kMaxKOverK1);
-    const std::vector<Branch> augB = runDem("dem_plastic_b", ratioB);
-    if (!samePhases(lab, augB)) return mismatch("dem_plastic_b");
-    // third run when neither hit the recording's ratio within 10 % of its excess over 1 (the bulk
-    // ratio is not linear in k/k1): the secant through runs a and b
-    const double rB = unloadRatio(augB, cal), tol = 0.1 * std::max(labRatio - 1, 0.05);
-    std::vector<Branch> augC;
-    if (std::abs(rA - labRatio) > tol && std::abs(rB - labRatio) > tol && std::abs(rB - rA) > 1e-3 && ratioB != ratioA) {
-        const double ratioC = std::clamp(ratioA + (ratioB - ratioA) * (labRatio - rA) / (rB - rA), 1.05, kMaxKOverK1);
-        augC = runDem("dem_plastic_c", ratioC);
-        if (!samePhases(lab, augC)) return mismatch("dem_plastic_c");
+    std::vector<std::vector<Branch>> all;  // the baseline, then the augmented runs in turn
+    const auto runPaired = [&](const std::string& name, double value) {
+        all.push_back(runDem(name, value));
+        return samePhases(lab, all.back());
+    };
+    if (!runPaired("dem_baseline", knob.base)) return mismatch("dem_baseline");
+    const double valueA = std::clamp(knob.guess, knob.lo, knob.hi);
+    if (!knob.grid.empty()) {
+        // a fixed set of values around the guess, chosen by the calibration error alone
+        for (std::size_t q = 0; q < knob.grid.size(); ++q) {
+            const std::string name = knob.prefix + "_" + static_cast<char>('a' + q);
+            if (!runPaired(name, std::clamp(knob.guess * knob.grid[q], knob.lo, knob.hi))) return mismatch(name);
+        }
+    } else {
+        if (!runPaired(knob.prefix + "_a", valueA)) return mismatch(knob.prefix + "_a");
+        // second run: the secant through (base, baseline's ratio) and (value of run a, its ratio)
+        // aimed at the recording's measured ratio
+        const double r0 = unloadRatio(all[0], cal, knob.yMin), rA = unloadRatio(all[1], cal, knob.yMin);
+        if (!(rA > r0 + 1e-3))
+            return ctx.fail("the DEM bed's unloading ratio did not grow with " + knob.flag.substr(2) + " (" + fmt(r0) + " at " + fmt(knob.base) +
+                            ", " + fmt(rA) + " at " + fmt(valueA) + "): no calibration possible");
+        const double valueB = std::clamp(knob.base + (valueA - knob.base) * (labRatio - r0) / (rA - r0), knob.lo, knob.hi);
+        if (!runPaired(knob.prefix + "_b", valueB)) return mismatch(knob.prefix + "_b");
+        // third run when neither hit the recording's ratio within 10 % of its excess over 1 (the
+        // bulk ratio is not linear in the knob): the secant through runs a and b
+        const double rB = unloadRatio(all[2], cal, knob.yMin), tol = 0.1 * std::max(labRatio - 1, 0.05);
+        if (std::abs(rA - labRatio) > tol && std::abs(rB - labRatio) > tol && std::abs(rB - rA) > 1e-3 && valueB != valueA) {
+            const double valueC = std::clamp(valueA + (valueB - valueA) * (labRatio - rA) / (rB - rA), knob.lo, knob.hi);
+            if (!runPaired(knob.prefix + "_c", valueC)) return mismatch(knob.prefix + "_c");
+        }
     }
 
-    std::vector<const std::vector<Branch>*> all = {&base, &augA, &augB};
-    if (!augC.empty()) all.push_back(&augC);
     for (std::size_t q = 0; q < all.size(); ++q) {
-        d.runs[q].calibrationRmse = branchRmse(lab, *all[q], cal);
-        d.runs[q].heldoutRmse = branchRmse(lab, *all[q], held);
-        d.runs[q].macro = unloadRatio(*all[q], cal);
+        d.runs[q].calibrationRmse = branchRmse(lab, all[q], cal);
+        d.runs[q].heldoutRmse = branchRmse(lab, all[q], held);
+        d.runs[q].macro = unloadRatio(all[q], cal, knob.yMin);
     }
     d.labMacro = labRatio;
     d.chosen = 1;  // the augmented run with the smallest calibration error
@@ -479,7 +502,7 @@ DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const
     std::vector<Compared> rows;
     for (std::size_t k = 0; k < lab.size(); ++k) {
         std::vector<std::vector<double>> pred;
-        for (const auto* run : all) pred.push_back(branchPredict(lab, *run, k));
+        for (const auto& run : all) pred.push_back(branchPredict(lab, run, k));
         for (std::size_t i = 0; i < lab[k].u.size(); ++i) {
             Compared c{k, lab[k].phase == Phase::Reload, lab[k].e[i], lab[k].s[i], {}};
             for (const auto& p : pred) c.pred.push_back(p[i]);
@@ -488,6 +511,59 @@ DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const
     }
     writeComparison(ctx.workDir, rows, d, "axial_strain", "axial strain", ctx.opt.figures);
     return ctx.finish();
+}
+
+DemResult confirmPlasticity(DemContext& ctx, const MechanismResult& plast, const Recording& rec, const std::string& protocolPath) {
+    double lam = -1;
+    for (std::size_t q = 0; q < plast.params.size(); ++q)
+        if (plast.params[q] == pLambda) lam = plast.value[q];
+    ctx.d.mechanism = "plasticity";
+    if (!(lam > 1)) return ctx.fail("the accepted plasticity term has no unloading stiffness ratio above 1");
+    const BranchKnob knob{"plasticity", "--k_over_k1", "dem_plastic", 1, 1.05, kMaxKOverK1, lam, " --relax_C 0 --kc_over_k 0", &DemRun::kOverK1, 0.2};
+    return confirmBranches(ctx, knob, rec, protocolPath);
+}
+
+DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, const Recording& rec, const std::string& protocolPath) {
+    ctx.d.mechanism = "wall_friction";
+    double muK = -1;
+    for (std::size_t q = 0; q < wall.params.size(); ++q)
+        if (wall.params[q] == pMuK) muK = wall.value[q];
+    if (!(muK > 0)) return ctx.fail("the accepted wall_friction term has no positive mu_w K");
+    recording::Protocol proto;
+    try {
+        proto = recording::readProtocol(protocolPath);
+    } catch (const InputError& e) {
+        return ctx.fail(std::string("protocol: ") + e.what());
+    }
+    if (!(proto.diameter > 0) || !(proto.height > 0)) {
+        ctx.d.status = "not_run";
+        ctx.d.reason = "the protocol's device has no diameter and fill height: the DEM mould's aspect ratio H/D is unknown";
+        return ctx.finish();
+    }
+    // the mould: the recording's H/D at a size the DEM affords (fast: 12 mean diameters across, at
+    // least 4 high; ft4: the FT4's 50 mm diameter)
+    const double aspect = proto.height / proto.diameter;
+    double D = ctx.opt.mode == "ft4" ? 0.05 : kFastMouldDiameters * kDemMeanDiameter;
+    double H = D * aspect;
+    if (H < 4 * kDemMeanDiameter) H = 4 * kDemMeanDiameter, D = std::min(H / aspect, 3 * kFastMouldDiameters * kDemMeanDiameter);
+    if (H > 3 * D) H = 3 * D;
+    ctx.d.mouldDiameter = D;
+    ctx.d.mouldHeight = H;
+    ctx.geometry = " --geometry cylinder --device dem_mould --diameter " + fmt(D) + " --fill_height_m " + fmt(H);
+    // fast: ramps at the ft4 preset's strain rate (half the time of the driver's default; the
+    // unloading ratio of a 20 mm mould moved by 1-3 % between the two, see the documentation)
+    if (ctx.opt.mode != "ft4") ctx.geometry += " --ramp_rate 1";
+    // the guess: Janssen's product mu_w K with K ~ 0.5 for a poured bed, at least kMinWallFrictionGuess
+    // (the surrogate's muK came out 10 times too small on a DEM-made record). Runs at the guess, half
+    // and twice it, chosen by the calibration error: in a mould of about a thousand particles the
+    // unloading ratio is not monotone in mu_w (collapses near the peak move the loading tangent by a
+    // factor 4 between runs), so no secant can aim at it. Every bed is poured with frictionless walls
+    // (--fill_wall_friction 0): all runs compress the same bed and differ in mu_w only.
+    const double guess = std::clamp(std::max(2 * muK, kMinWallFrictionGuess), 0.02, kMaxWallFriction);
+    const BranchKnob knob{"wall_friction", "--wall_friction", "dem_wall", 0, 0.02, kMaxWallFriction, guess,
+                          " --relax_C 0 --kc_over_k 0 --k_over_k1 1 --fill_wall_friction 0 --d_mean " + fmt(kDemMeanDiameter),
+                          &DemRun::wallFriction, 0.6, {1, 0.5, 2}};
+    return confirmBranches(ctx, knob, rec, protocolPath);
 }
 
 } // namespace
@@ -526,7 +602,7 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     if (!m) {
         d.status = "not_supported";
         d.mechanism = compName(r.mechanisms.front().comp);
-        d.reason = "the DEM re-run is implemented for contact_relaxation and plasticity; " + d.mechanism +
+        d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity and wall_friction; " + d.mechanism +
                    " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
         return d;
     }
@@ -538,10 +614,14 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         return d;
     }
     fs::create_directories(workDir);
-    return m->comp == kRelaxation ? confirmRelaxation(ctx, *m, rec, protocolPath) : confirmPlasticity(ctx, *m, rec, protocolPath);
+    switch (m->comp) {
+        case kRelaxation: return confirmRelaxation(ctx, *m, rec, protocolPath);
+        case kPlasticity: return confirmPlasticity(ctx, *m, rec, protocolPath);
+        default: return confirmWallFriction(ctx, *m, rec, protocolPath);
+    }
 }
 
-bool demSupported(int comp) { return comp == kRelaxation || comp == kPlasticity; }
+bool demSupported(int comp) { return comp == kRelaxation || comp == kPlasticity || comp == kWallFriction; }
 
 Json demJson(const DemResult& d) {
     Json j = Json::object();
@@ -549,24 +629,30 @@ Json demJson(const DemResult& d) {
     if (!d.reason.empty()) j.set("reason", d.reason);
     if (!d.mechanism.empty()) j.set("mechanism", d.mechanism);
     const auto num = [](double x) { return x >= 0 && std::isfinite(x) ? Json(x) : Json(); };
-    const bool plastic = d.mechanism == "plasticity";
+    const bool plastic = d.mechanism == "plasticity", wall = d.mechanism == "wall_friction", branches = plastic || wall;
     j.set("heldout_rmse_baseline", num(d.heldoutBaseline));
     j.set("heldout_rmse_augmented", num(d.heldoutAugmented));
     if (d.status == "done") {
         j.set("heldout_reduction", d.heldoutBaseline > 0 ? Json(1 - d.heldoutAugmented / d.heldoutBaseline) : Json());
-        j.set(plastic ? "calibration_branches" : "calibration_holds", d.calibrationHolds);
-        j.set(plastic ? "heldout_branches" : "heldout_holds", d.heldoutHolds);
+        j.set(branches ? "calibration_branches" : "calibration_holds", d.calibrationHolds);
+        j.set(branches ? "heldout_branches" : "heldout_holds", d.heldoutHolds);
         j.set("chosen_run", d.runs[static_cast<std::size_t>(d.chosen)].name);
-        if (plastic) {
+        if (branches) {
             j.set("stress_scale", d.stressScale);
             j.set("recording_unload_stiffness_ratio_calibration_branches", num(d.labMacro));
+            j.set("unload_ratio_min_y", d.ratioYMin);
+        }
+        if (wall) {
+            j.set("mould_diameter_m", d.mouldDiameter);
+            j.set("mould_height_m", d.mouldHeight);
         }
     }
     Json runs = Json::array();
     for (const DemRun& r : d.runs) {
         Json o = Json::object({{"name", r.name}});
-        if (plastic) {
-            o.set("k_over_k1", r.kOverK1);
+        if (branches) {
+            if (plastic) o.set("k_over_k1", r.kOverK1);
+            else o.set("wall_friction", r.wallFriction);
             o.set("dem_unload_stiffness_ratio_calibration_branches", num(r.macro));
         } else {
             o.set("relax_C", r.relaxC);
@@ -590,8 +676,10 @@ std::string demMarkdown(const DemResult& d) {
         return os.str();
     }
     const DemRun& a = d.runs[static_cast<std::size_t>(d.chosen)];
-    const double gain = d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0;
-    char buf[900];
+    const double change = d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0;
+    const double gain = std::abs(change);
+    const char* way = change >= 0 ? "lower" : "higher";
+    char buf[1400];
     if (d.mechanism == "plasticity")
         std::snprintf(buf, sizeof buf,
                       "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
@@ -599,17 +687,30 @@ std::string demMarkdown(const DemResult& d) {
                       "contacts (k/k1 = %.4g, calibrated on %d unload/reload branch(es) to the recording's unloading "
                       "stiffness ratio %.3g; the DEM gives %.3g). Compared in units of each branch's start stress and "
                       "loading stiffness, on the %d branch(es) the calibration did not see the DEM misses the recording "
-                      "by %.4g Pa (RMS) with elastic contacts and %.4g Pa with plastic ones (%.1f %% lower). Runs, "
+                      "by %.4g Pa (RMS) with elastic contacts and %.4g Pa with plastic ones (%.1f %% %s). Runs, "
                       "commands and logs are in `dem/`.\n",
                       d.stressScale, a.kOverK1, d.calibrationHolds, d.labMacro, a.macro, d.heldoutHolds, d.heldoutBaseline,
-                      d.heldoutAugmented, gain);
+                      d.heldoutAugmented, gain, way);
+    else if (d.mechanism == "wall_friction")
+        std::snprintf(buf, sizeof buf,
+                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
+                      "material's range) in a mould of the recording's aspect ratio (D = %.3g m, H = %.3g m, every bed "
+                      "poured with frictionless walls), once with frictionless walls and with wall friction mu_w = %.4g "
+                      "(of %zu values around the explainer's estimate, the one with the smallest error on %d unload "
+                      "branch(es)). Compared in units of each branch's start stress and loading stiffness, on the %d "
+                      "branch(es) the choice did not see the DEM misses the recording by %.4g Pa (RMS) with frictionless "
+                      "walls and %.4g Pa with wall friction (%.1f %% %s). Unloading ratio over the top %.0f %% of the "
+                      "unloads: recording %.3g, chosen run %.3g, frictionless %.3g. Runs, commands and logs are in `dem/`.\n",
+                      d.stressScale, d.mouldDiameter, d.mouldHeight, a.wallFriction, d.runs.size() - 1, d.calibrationHolds,
+                      d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain, way, 100 * (1 - d.ratioYMin), d.labMacro, a.macro,
+                      d.runs.front().macro);
     else
         std::snprintf(buf, sizeof buf,
                       "The OedometerRelaxation driver was re-run on this protocol, once with the standard contact law and "
                       "once with contact relaxation switched on (contact C = %.4g, t0 = %.4g s, calibrated on %d hold(s)). "
                       "On the %d hold(s) the calibration did not see, the DEM hold curves miss the recording by %.4g Pa (RMS) "
-                      "without relaxation and %.4g Pa with it (%.1f %% lower). Runs, commands and logs are in `dem/`.\n",
-                      a.relaxC, a.relaxT0, d.calibrationHolds, d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain);
+                      "without relaxation and %.4g Pa with it (%.1f %% %s). Runs, commands and logs are in `dem/`.\n",
+                      a.relaxC, a.relaxT0, d.calibrationHolds, d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain, way);
     os << buf;
     return os.str();
 }

@@ -22,6 +22,16 @@
 // over 1), a fourth run from the secant through the two. The augmented run with the smallest
 // calibration error is scored. The protocol's stresses are scaled into the material's range
 // (at most kDemMaxStress).
+//
+// And for wall_friction (driver flag --wall_friction mu_w of the mould, piston and bottom, in the
+// cylinder geometry with the recording's aspect ratio H/D; plasticity, adhesion and relaxation off in
+// every run, every bed poured with frictionless walls, so that all runs compress the same bed): the
+// same branches and the same normalisation, but no secant: runs at mu_w = 0 (baseline), g, g/2 and
+// 2g with g = 2 muK (muK the explainer's Janssen product mu_w K, K ~ 0.5; at least
+// kMinWallFrictionGuess), the augmented run with the smallest calibration error scored. The
+// unloading ratio over the top of each unload (y >= 0.6, where the wall shear turns round) is
+// reported but not aimed at: in a mould of a thousand particles it is not monotone in mu_w
+// (Documentation/tools-explain.md).
 #pragma once
 #include <string>
 #include <vector>
@@ -32,7 +42,7 @@
 namespace pdpm::explain {
 
 struct DemOptions {
-    std::string mode = "fast";  ///< off | fast (periodic bed, default driver size) | ft4 (D = H = 50 mm mould)
+    std::string mode = "fast";  ///< off | fast (periodic bed, default driver size; wall_friction: a mould 12 mean diameters across) | ft4 (D = H = 50 mm mould; wall_friction: D = 50 mm at the recording's H/D)
     std::string driver;         ///< OedometerRelaxation executable (empty: next to this program)
     int threads = 1;
     bool figures = true;        ///< dem/comparison.png (gnuplot)
@@ -42,14 +52,24 @@ struct DemOptions {
 inline constexpr double kDemMaxStress = 20e3;
 /// Largest k/k1 a plasticity DEM run may use.
 inline constexpr double kMaxKOverK1 = 50;
+/// Largest wall friction coefficient a wall_friction DEM run may use.
+inline constexpr double kMaxWallFriction = 1.5;
+/// Smallest wall friction coefficient of the first augmented wall_friction run.
+inline constexpr double kMinWallFrictionGuess = 0.2;
+/// Mean particle diameter of the DEM runs (m; the driver's --d_mean, cocoa).
+inline constexpr double kDemMeanDiameter = 2.5e-3;
+/// Mould diameter of a wall_friction DEM run in `fast` mode, in mean particle diameters (the height
+/// follows from the recording's H/D).
+inline constexpr double kFastMouldDiameters = 12;
 
 struct DemRun {
     std::string name;
     double relaxC = 0, relaxT0 = 0;  ///< contact_relaxation runs
     double kOverK1 = 0;              ///< plasticity runs
+    double wallFriction = 0;         ///< wall_friction runs (mu_w)
     double calibrationRmse = -1, heldoutRmse = -1;  ///< Pa
-    /// contact_relaxation: mean fitted C of the DEM calibration holds; plasticity: unloading
-    /// stiffness ratio measured on the DEM calibration branches
+    /// contact_relaxation: mean fitted C of the DEM calibration holds; plasticity, wall_friction:
+    /// unloading stiffness ratio measured on the DEM calibration branches
     double macro = -1;
     double wallSeconds = 0;
     std::string command;
@@ -60,9 +80,11 @@ struct DemResult {
     std::string reason, mechanism;
     std::vector<DemRun> runs;
     int chosen = -1;  ///< index of the scored augmented run
-    int calibrationHolds = 0, heldoutHolds = 0;  ///< holds (contact_relaxation) or unload/reload branches (plasticity)
-    double stressScale = 1;   ///< plasticity: factor applied to the protocol's stresses
-    double labMacro = -1;     ///< plasticity: the recording's unloading stiffness ratio (calibration branches)
+    int calibrationHolds = 0, heldoutHolds = 0;  ///< holds (contact_relaxation) or unload/reload branches (the others)
+    double stressScale = 1;   ///< plasticity, wall_friction: factor applied to the protocol's stresses
+    double labMacro = -1;     ///< plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches)
+    double mouldDiameter = 0, mouldHeight = 0;  ///< wall_friction: the DEM mould (m)
+    double ratioYMin = 0;     ///< plasticity, wall_friction: the unloading ratio's window, unload samples with y >= ratioYMin
     double heldoutBaseline = -1, heldoutAugmented = -1;
     double wallSeconds = 0;
 };
@@ -72,7 +94,7 @@ std::string defaultDemDriver();
 /// A word for /bin/sh: single-quoted, embedded quotes escaped.
 std::string shellQuote(const std::string& s);
 
-/// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity).
+/// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity, wall_friction).
 bool demSupported(int comp);
 
 /// Runs the confirmation for the first accepted mechanism of `r` that has one (workDir receives the runs).

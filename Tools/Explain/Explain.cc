@@ -356,6 +356,9 @@ void readModelFile(const std::string& path, ExplainOptions& opt) {
         for (const Json& s : a->asArray(path + ": " + key)) {
             const std::string& nm = s.asString(path + ": " + key + " entry");
             const int c = compFromName(nm);
+            if (c >= 0 && c != kBaseline && c < kNumComp && mechOnly && !isMechanism(c))
+                inputError(path + ": " + key + ": '" + nm + "' is not a candidate mechanism (" +
+                           (isNuisance(c) ? "a nuisance: list it under nuisances" : "baseline only: list it under baseline") + ")");
             if (c < 0 || c == kBaseline || (mechOnly && !isMechanism(c)) || (!mechOnly && c >= kNumComp))
                 inputError(path + ": " + key + ": unknown component '" + nm + "'");
             out.push_back(c);

@@ -32,7 +32,7 @@ int runExplainCommand(const std::vector<std::string>& args) {
         cli.add("seed", &seed, 1, "seed of the randomised restarts (results are deterministic for a seed)", 0, 2147483647);
         cli.add("no_figures", &noFigures, false, "do not run gnuplot");
         cli.add("dem", &dem.mode, "fast",
-                "DEM confirmation of an accepted mechanism: off, fast (small periodic bed) or ft4 (50 mm mould; slow)");
+                "DEM confirmation of an accepted mechanism: off, fast (small periodic bed; wall_friction: a mould 30 mm across) or ft4 (50 mm mould; slow)");
         cli.add("dem_driver", &dem.driver, "", "OedometerRelaxation executable (default: next to pdpm-explain)");
         cli.add("dem_threads", &dem.threads, 1, "OpenMP threads of the DEM runs", 1, 256);
         if (!cli.parse(args, std::cout)) return 0;
