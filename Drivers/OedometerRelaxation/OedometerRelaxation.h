@@ -201,6 +201,7 @@ protected:
                                    {"relax_memory", relaxMemory_}});
         extra.set("particles", static_cast<double>(particles().size()));
         extra.set("geometry", geometry_);
+        extra.set("fill_wall_friction", fillMuWall_ >= 0 ? fillMuWall_ : muWall_);  // mu_w while the bed was poured
         extra.set("lateral_period_m", cylinder() ? 0.0 : box().length().x);
     }
 

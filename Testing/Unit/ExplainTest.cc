@@ -782,7 +782,43 @@ awk -v m="$mu" -v sc="$scale" 'BEGIN {
     EXPECT_NEAR(j.at("mould_diameter_m").asNumber(), 0.035, 1e-12);
     EXPECT_EQ(j.at("unload_ratio_min_y").asNumber(), 0.6) << "the top of the unload, where the wall shear turns round";
     EXPECT_NEAR(j.at("runs").asArray("runs")[2].at("wall_friction").asNumber(), d.runs[2].wallFriction, 1e-12);
-    EXPECT_NE(demMarkdown(d).find("wall friction"), std::string::npos);
+    const std::string md = demMarkdown(d);
+    EXPECT_NE(md.find("D = 0.035 m across and H = 0.01 m high (H/D 0.286; the recording's 0.286)"), std::string::npos) << md;
+    EXPECT_NE(md.find("% lower"), std::string::npos) << md;
+    for (std::size_t at = 0, n = 0; at < calls.size(); at = calls.find('\n', at) + 1, ++n) {
+        const std::string line = calls.substr(at, calls.find('\n', at) - at);
+        EXPECT_EQ(line.substr(line.size() - 2), " 0") << "run " << n << " pours its bed with frictionless walls: " << line;
+    }
+
+    // the surrogate's muK far below Janssen's (as on DEM-made records): the runs start at the floor
+    // 0.2; a guess at the clamp 1.5 does not run 2g = 3 -> 1.5 a second time
+    {
+        ExplainResult r2 = r;
+        r2.mechanisms[0].value = {0.01};
+        std::filesystem::create_directories(dir + "/dem4");
+        const DemResult f = confirmWithDem(r2, rec, dir + "/p.json", opt, dir + "/dem4");
+        ASSERT_EQ(f.runs.size(), 4u) << f.reason;
+        EXPECT_NEAR(f.runs[1].wallFriction, 0.2, 1e-12);
+        EXPECT_NEAR(f.runs[2].wallFriction, 0.1, 1e-12);
+        EXPECT_NEAR(f.runs[3].wallFriction, 0.4, 1e-12);
+        r2.mechanisms[0].value = {0.75};
+        std::filesystem::create_directories(dir + "/dem5");
+        const DemResult c = confirmWithDem(r2, rec, dir + "/p.json", opt, dir + "/dem5");
+        ASSERT_EQ(c.runs.size(), 3u) << c.reason;
+        EXPECT_NEAR(c.runs[1].wallFriction, 1.5, 1e-12);
+        EXPECT_NEAR(c.runs[2].wallFriction, 0.75, 1e-12);
+    }
+    // ft4: the FT4's 50 mm diameter at the recording's H/D
+    {
+        DemOptions ft4 = opt;
+        ft4.mode = "ft4";
+        std::filesystem::create_directories(dir + "/dem6");
+        const DemResult f = confirmWithDem(r, rec, dir + "/p.json", ft4, dir + "/dem6");
+        ASSERT_EQ(f.status, "done") << f.reason;
+        EXPECT_NEAR(f.mouldDiameter, 0.05, 1e-12);
+        EXPECT_NEAR(f.mouldHeight, 0.05 * 0.02 / 0.07, 1e-12);
+        EXPECT_NE(f.runs[0].command.find("--hold_tau 0.005 --ramp_rate 1"), std::string::npos) << f.runs[0].command;
+    }
 
     // no device size in the protocol: the mould's aspect ratio is unknown
     writeWholeFile(dir + "/p2.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
@@ -791,6 +827,16 @@ awk -v m="$mu" -v sc="$scale" 'BEGIN {
     const DemResult none = confirmWithDem(r, rec, dir + "/p2.json", opt, dir + "/dem2");
     EXPECT_EQ(none.status, "not_run");
     EXPECT_NE(none.reason.find("aspect ratio"), std::string::npos) << none.reason;
+    // ... and a later accepted mechanism that the DEM can confirm is taken instead
+    ExplainResult both = r;
+    MechanismResult plast;
+    plast.comp = kPlasticity;
+    plast.params = {pLambda};
+    plast.value = {1.75};
+    both.mechanisms.push_back(plast);
+    std::filesystem::create_directories(dir + "/dem7");
+    EXPECT_EQ(confirmWithDem(both, rec, dir + "/p2.json", opt, dir + "/dem7").mechanism, "plasticity");
+    EXPECT_EQ(confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem8").mechanism, "wall_friction") << "with the size known, the first";
 }
 
 // ---- several recordings of one material -----------------------------------------------------------

@@ -104,6 +104,40 @@ TEST(Recording, ProtocolRoundTripAndStrictness) {
         EXPECT_THROW(parseSteps(s), InputError) << s;
 }
 
+// The driver's per-hold results (extra.holds): read back as written, fits that failed (null) as -1,
+// a malformed entry named.
+TEST(Recording, ProtocolHoldsReadTheDriversHoldResults) {
+    Protocol p;
+    p.steps = parseSteps("ramp:5e-5:5000, hold:300, ramp:5e-5:9000, creep:60");
+    EXPECT_TRUE(protocolHolds(p).empty());
+    p.extra.set("holds", parseJson(R"([
+      {"step": 1, "type": "hold_position", "lab_start_s": 12.5, "stress_start_Pa": 5000, "fit_C": 0.04, "fit_t0_s": 0.3},
+      {"step": 3, "type": "hold_stress", "lab_start_s": 40, "stress_start_Pa": 9000, "fit_C": null, "fit_t0_s": null}])"));
+    const Protocol q = protocolFromJson(parseJson(protocolToJson(p).dump()));  // through the file format
+    const std::vector<HoldSummary> h = protocolHolds(q);
+    ASSERT_EQ(h.size(), 2u);
+    EXPECT_TRUE(h[0].position);
+    EXPECT_EQ(h[0].step, 1);
+    EXPECT_EQ(h[0].labStart, 12.5);
+    EXPECT_EQ(h[0].stressStart, 5000);
+    EXPECT_EQ(h[0].fitC, 0.04);
+    EXPECT_EQ(h[0].fitT0, 0.3);
+    EXPECT_FALSE(h[1].position);
+    EXPECT_EQ(h[1].fitC, -1);
+    for (const char* bad : {R"([{"step": 1, "type": "hold", "lab_start_s": 0, "stress_start_Pa": 1}])",
+                            R"([{"step": 1.5, "type": "hold_position", "lab_start_s": 0, "stress_start_Pa": 1}])",
+                            R"([{"step": 1, "type": "hold_position", "stress_start_Pa": 1}])", R"([3])"}) {
+        Protocol r;
+        r.extra.set("holds", parseJson(bad));
+        try {
+            protocolHolds(r);
+            ADD_FAILURE() << bad;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("extra.holds[0]"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(Recording, Table43Presets) {
     const auto p1 = presetSteps(1, 22e3);
     ASSERT_EQ(p1.size(), 10u);

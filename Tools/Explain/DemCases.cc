@@ -15,6 +15,7 @@
 #include "Explain.h"
 #include "IO/AtomicFile.h"
 #include "IO/NumberFormat.h"
+#include "Recording.h"
 
 namespace pdpm::explain {
 
@@ -31,15 +32,10 @@ double at(const std::vector<double>& t, const std::vector<double>& y, double x) 
 
 /// Mean fitted C (Eq. 4.3) of the position holds of a driver run (-1: none).
 double macroscopicC(const std::string& protocolPath) {
-    const Json proto = readJsonFile(protocolPath);
-    const Json* extra = proto.find("extra");
-    const Json* holds = extra ? extra->find("holds") : nullptr;
     double sum = 0;
     int n = 0;
-    if (holds)
-        for (const Json& h : holds->asArray("extra.holds"))
-            if (h.at("type").asString() == "hold_position" && h.find("fit_C") && h.at("fit_C").isNumber() && h.at("fit_C").asNumber() > 0)
-                sum += h.at("fit_C").asNumber(), ++n;
+    for (const recording::HoldSummary& h : recording::protocolHolds(recording::readProtocol(protocolPath)))
+        if (h.position && h.fitC > 0) sum += h.fitC, ++n;
     return n > 0 ? sum / n : -1;
 }
 

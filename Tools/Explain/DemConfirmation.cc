@@ -46,25 +46,21 @@ double interpolate(const DemHold& h, double t) {
 }
 
 std::vector<DemHold> readDemHolds(const std::string& base) {
-    const Json proto = readJsonFile(base + ".protocol.json");
+    const std::vector<recording::HoldSummary> holds = recording::protocolHolds(recording::readProtocol(base + ".protocol.json"));
     const recording::Recording rec = recording::readRecording(base + ".recording.csv");
     const int ct = rec.column("time_s"), cs = rec.column("axial_stress_Pa"), cstep = rec.column("step");
     if (ct < 0 || cs < 0 || cstep < 0) inputError(base + ".recording.csv: missing time_s/axial_stress_Pa/step");
     std::vector<DemHold> out;
-    const Json* extra = proto.find("extra");
-    const Json* holds = extra ? extra->find("holds") : nullptr;
-    if (!holds) return out;
-    for (const Json& h : holds->asArray("extra.holds")) {
-        if (h.at("type").asString() != "hold_position") continue;
-        const double step = h.at("step").asNumber(), t0 = h.at("lab_start_s").asNumber(), s0 = h.at("stress_start_Pa").asNumber();
+    for (const recording::HoldSummary& h : holds) {
+        if (!h.position) continue;
         DemHold d;
-        d.fitC = h.find("fit_C") && h.at("fit_C").isNumber() ? h.at("fit_C").asNumber() : -1;
+        d.fitC = h.fitC;
         d.t.push_back(0);
         d.g.push_back(1);
         for (const auto& row : rec.rows)
-            if (row[static_cast<std::size_t>(cstep)] == step && row[static_cast<std::size_t>(ct)] > t0) {
-                d.t.push_back(row[static_cast<std::size_t>(ct)] - t0);
-                d.g.push_back(s0 > 0 ? row[static_cast<std::size_t>(cs)] / s0 : 1);
+            if (row[static_cast<std::size_t>(cstep)] == h.step && row[static_cast<std::size_t>(ct)] > h.labStart) {
+                d.t.push_back(row[static_cast<std::size_t>(ct)] - h.labStart);
+                d.g.push_back(h.stressStart > 0 ? row[static_cast<std::size_t>(cs)] / h.stressStart : 1);
             }
         out.push_back(std::move(d));
     }
@@ -463,10 +459,15 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     if (!runPaired("dem_baseline", knob.base)) return mismatch("dem_baseline");
     const double valueA = std::clamp(knob.guess, knob.lo, knob.hi);
     if (!knob.grid.empty()) {
-        // a fixed set of values around the guess, chosen by the calibration error alone
-        for (std::size_t q = 0; q < knob.grid.size(); ++q) {
-            const std::string name = knob.prefix + "_" + static_cast<char>('a' + q);
-            if (!runPaired(name, std::clamp(knob.guess * knob.grid[q], knob.lo, knob.hi))) return mismatch(name);
+        // a fixed set of values around the guess, chosen by the calibration error alone (a value the
+        // clamp to [lo, hi] makes equal to an earlier run's is not run twice)
+        std::vector<double> used;
+        for (double factor : knob.grid) {
+            const double value = std::clamp(knob.guess * factor, knob.lo, knob.hi);
+            if (std::find(used.begin(), used.end(), value) != used.end()) continue;
+            used.push_back(value);
+            const std::string name = knob.prefix + "_" + static_cast<char>('a' + used.size() - 1);
+            if (!runPaired(name, value)) return mismatch(name);
         }
     } else {
         if (!runPaired(knob.prefix + "_a", valueA)) return mismatch(knob.prefix + "_a");
@@ -540,13 +541,18 @@ DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, cons
         ctx.d.reason = "the protocol's device has no diameter and fill height: the DEM mould's aspect ratio H/D is unknown";
         return ctx.finish();
     }
-    // the mould: the recording's H/D at a size the DEM affords (fast: 12 mean diameters across, at
-    // least 4 high; ft4: the FT4's 50 mm diameter)
-    const double aspect = proto.height / proto.diameter;
-    double D = ctx.opt.mode == "ft4" ? 0.05 : kFastMouldDiameters * kDemMeanDiameter;
+    // the mould: the recording's H/D at a size the DEM affords. fast: 12 mean diameters across, at
+    // least 4 high (a flatter mould widens, up to 24 diameters); ft4: the FT4's 50 mm diameter, at
+    // least 4 diameters high. Never higher than 3 D. Where H/D cannot be kept, the report gives both.
+    const double aspect = proto.height / proto.diameter, dm = kDemMeanDiameter;
+    double D = ctx.opt.mode == "ft4" ? 0.05 : kFastMouldDiameters * dm;
     double H = D * aspect;
-    if (H < 4 * kDemMeanDiameter) H = 4 * kDemMeanDiameter, D = std::min(H / aspect, 3 * kFastMouldDiameters * kDemMeanDiameter);
-    if (H > 3 * D) H = 3 * D;
+    if (H < 4 * dm) {
+        H = 4 * dm;
+        if (ctx.opt.mode != "ft4") D = std::min(H / aspect, 2 * kFastMouldDiameters * dm);
+    }
+    H = std::min(H, 3 * D);
+    ctx.d.recordingAspect = aspect;
     ctx.d.mouldDiameter = D;
     ctx.d.mouldHeight = H;
     ctx.geometry = " --geometry cylinder --device dem_mould --diameter " + fmt(D) + " --fill_height_m " + fmt(H);
@@ -593,12 +599,29 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         d.reason = "no mechanism was accepted, so there is nothing to add to the DEM model";
         return d;
     }
+    // the first accepted mechanism with a DEM counterpart; wall_friction only when the protocol gives
+    // the device's size (the mould's H/D), else a later one is preferred (it still gets its not_run
+    // when it is the only one)
     const MechanismResult* m = nullptr;
-    for (const auto& mr : r.mechanisms)
-        if (demSupported(mr.comp)) {
-            m = &mr;
-            break;
+    const MechanismResult* wallWithoutSize = nullptr;
+    for (const auto& mr : r.mechanisms) {
+        if (!demSupported(mr.comp)) continue;
+        if (mr.comp == kWallFriction && !wallWithoutSize) {
+            bool sized = false;
+            try {
+                const recording::Protocol p = recording::readProtocol(protocolPath);
+                sized = p.diameter > 0 && p.height > 0;
+            } catch (const InputError&) {
+            }
+            if (!sized) {
+                wallWithoutSize = &mr;
+                continue;
+            }
         }
+        m = &mr;
+        break;
+    }
+    if (!m) m = wallWithoutSize;
     if (!m) {
         d.status = "not_supported";
         d.mechanism = compName(r.mechanisms.front().comp);
@@ -645,6 +668,7 @@ Json demJson(const DemResult& d) {
         if (wall) {
             j.set("mould_diameter_m", d.mouldDiameter);
             j.set("mould_height_m", d.mouldHeight);
+            j.set("recording_aspect_ratio_H_over_D", d.recordingAspect);
         }
     }
     Json runs = Json::array();
@@ -694,14 +718,16 @@ std::string demMarkdown(const DemResult& d) {
     else if (d.mechanism == "wall_friction")
         std::snprintf(buf, sizeof buf,
                       "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
-                      "material's range) in a mould of the recording's aspect ratio (D = %.3g m, H = %.3g m, every bed "
-                      "poured with frictionless walls), once with frictionless walls and with wall friction mu_w = %.4g "
-                      "(of %zu values around the explainer's estimate, the one with the smallest error on %d unload "
-                      "branch(es)). Compared in units of each branch's start stress and loading stiffness, on the %d "
+                      "material's range) in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), "
+                      "every bed poured with frictionless walls, once with frictionless walls and with wall friction "
+                      "mu_w = %.4g (of %zu values around max(2 muK, %.2g) = %.3g, the one with the smallest error on %d "
+                      "unload branch(es)). Compared in units of each branch's start stress and loading stiffness, on the %d "
                       "branch(es) the choice did not see the DEM misses the recording by %.4g Pa (RMS) with frictionless "
                       "walls and %.4g Pa with wall friction (%.1f %% %s). Unloading ratio over the top %.0f %% of the "
                       "unloads: recording %.3g, chosen run %.3g, frictionless %.3g. Runs, commands and logs are in `dem/`.\n",
-                      d.stressScale, d.mouldDiameter, d.mouldHeight, a.wallFriction, d.runs.size() - 1, d.calibrationHolds,
+                      d.stressScale, d.mouldDiameter, d.mouldHeight, d.mouldHeight / d.mouldDiameter, d.recordingAspect,
+                      a.wallFriction, d.runs.size() - 1, kMinWallFrictionGuess, d.runs.size() > 1 ? d.runs[1].wallFriction : 0.0,
+                      d.calibrationHolds,
                       d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain, way, 100 * (1 - d.ratioYMin), d.labMacro, a.macro,
                       d.runs.front().macro);
     else

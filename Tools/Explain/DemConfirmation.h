@@ -84,6 +84,7 @@ struct DemResult {
     double stressScale = 1;   ///< plasticity, wall_friction: factor applied to the protocol's stresses
     double labMacro = -1;     ///< plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches)
     double mouldDiameter = 0, mouldHeight = 0;  ///< wall_friction: the DEM mould (m)
+    double recordingAspect = 0;  ///< wall_friction: the recording's H/D (the mould's differs where it cannot be kept)
     double ratioYMin = 0;     ///< plasticity, wall_friction: the unloading ratio's window, unload samples with y >= ratioYMin
     double heldoutBaseline = -1, heldoutAugmented = -1;
     double wallSeconds = 0;

@@ -32,7 +32,7 @@ int runExplainCommand(const std::vector<std::string>& args) {
         cli.add("seed", &seed, 1, "seed of the randomised restarts (results are deterministic for a seed)", 0, 2147483647);
         cli.add("no_figures", &noFigures, false, "do not run gnuplot");
         cli.add("dem", &dem.mode, "fast",
-                "DEM confirmation of an accepted mechanism: off, fast (small periodic bed; wall_friction: a mould 30 mm across) or ft4 (50 mm mould; slow)");
+                "DEM confirmation of an accepted mechanism: off, fast (small periodic bed; wall_friction: a mould about 30 mm across) or ft4 (50 mm mould; slow)");
         cli.add("dem_driver", &dem.driver, "", "OedometerRelaxation executable (default: next to pdpm-explain)");
         cli.add("dem_threads", &dem.threads, 1, "OpenMP threads of the DEM runs", 1, 256);
         if (!cli.parse(args, std::cout)) return 0;
@@ -65,8 +65,9 @@ int runExplainCommand(const std::vector<std::string>& args) {
             several = explainSeveral(recs, protos, opt);
             writeSeveralReport(output, several, recs, protos, opt);
         }
-        // Step 6: the DEM re-run, on the first recording whose own explanation accepted the mechanism the
-        // DEM step supports (contact_relaxation, plasticity; else recording 1); its block replaces the placeholder.
+        // Step 6: the DEM re-run, on the first recording whose own explanation accepted a mechanism the
+        // DEM step supports (contact_relaxation, plasticity, wall_friction; else recording 1); its block
+        // replaces the placeholder.
         std::size_t demRec = 0;
         if (recs.size() > 1)
             for (std::size_t k = recs.size(); k-- > 0;)

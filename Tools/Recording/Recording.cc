@@ -371,6 +371,40 @@ Protocol readProtocol(const std::string& path) {
 
 void writeProtocol(const std::string& path, const Protocol& p) { writeJsonFile(path, protocolToJson(p)); }
 
+std::vector<HoldSummary> protocolHolds(const Protocol& protocol) {
+    std::vector<HoldSummary> out;
+    const Json* holds = protocol.extra.isObject() ? protocol.extra.find("holds") : nullptr;
+    if (!holds) return out;
+    const auto& list = holds->asArray("extra.holds");
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const Json& h = list[k];
+        const std::string where = "extra.holds[" + std::to_string(k) + "]";
+        if (!h.isObject()) inputError(where + ": expected an object");
+        HoldSummary s;
+        const auto need = [&](const char* key) -> const Json& {
+            const Json* v = h.find(key);
+            if (!v) inputError(where + ": missing key '" + key + "'");
+            return *v;
+        };
+        const std::string type = need("type").asString(where + ".type");
+        if (type != "hold_position" && type != "hold_stress") inputError(where + ".type: expected hold_position or hold_stress, got '" + type + "'");
+        s.position = type == "hold_position";
+        const double step = need("step").asNumber(where + ".step");
+        if (!(step >= 0) || step != std::floor(step)) inputError(where + ".step: expected a step index, got " + fmt(step));
+        s.step = static_cast<int>(step);
+        s.labStart = need("lab_start_s").asNumber(where + ".lab_start_s");
+        s.stressStart = need("stress_start_Pa").asNumber(where + ".stress_start_Pa");
+        const auto optional = [&](const char* key) {  // null or absent: no fit
+            const Json* v = h.find(key);
+            return v && v->isNumber() && v->asNumber() > 0 ? v->asNumber() : -1.0;
+        };
+        s.fitC = optional("fit_C");
+        s.fitT0 = optional("fit_t0_s");
+        out.push_back(s);
+    }
+    return out;
+}
+
 std::vector<Step> parseSteps(const std::string& text) {
     std::vector<Step> out;
     std::string item;

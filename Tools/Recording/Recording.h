@@ -74,6 +74,18 @@ Protocol protocolFromJson(const Json& j);
 Protocol readProtocol(const std::string& path);
 void writeProtocol(const std::string& path, const Protocol& p);
 
+/// A hold of a simulation as the OedometerRelaxation driver lists it in the protocol file's
+/// "extra": {"holds": [...]} (Documentation/recording-format.md, "Hold results of a simulation").
+struct HoldSummary {
+    bool position = true;                  ///< "hold_position" (false: "hold_stress", a creep step)
+    int step = -1;                         ///< index of the protocol step
+    double labStart = 0, stressStart = 0;  ///< lab time (s) and axial stress (Pa) when the hold's clock starts
+    double fitC = -1, fitT0 = -1;          ///< Eq. 4.3 fit of the hold (-1: none or failed)
+};
+/// The holds of `protocol.extra.holds` (empty when there are none); InputError naming the entry when
+/// one is malformed.
+std::vector<HoldSummary> protocolHolds(const Protocol& protocol);
+
 /// Steps from the command-line syntax, comma separated:
 ///   ramp:VELOCITY_m_s:TARGET_Pa   hold:DURATION_s   unload:VELOCITY_m_s:TARGET_Pa
 ///   creep:DURATION_s[:STRESS_Pa]
