@@ -7,13 +7,17 @@
 //     phases and the one with the largest share is a hold; the case folder is valid explainer input
 //     and its MODEL.json puts stiffness_nonlinearity, plasticity and loading_curve into the baseline;
 //  2. its null twin (same seed and work folder): the two runs are reused, the record is the run
-//     without relaxation, with the same noise sd; no mechanism, no window.
+//     without relaxation, with the same noise sd; no mechanism, no window;
+//  3. with the driver executable changed (a copy of it whose modification time moves, as after a
+//     rebuild) the runs are made again.
 // About a minute of CPU (two small DEM runs); label heavy (left out of the sanitizer suite).
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include "DemCases.h"
+#include "DemConfirmation.h"
 #include "ExplainData.h"
 #include "IO/Json.h"
 #include "Recording.h"
@@ -49,7 +53,10 @@ double interp(const std::vector<double>& t, const std::vector<double>& y, double
 int main() {
     bool ok = true;
     std::filesystem::remove_all("runs_pos");  // runs left by an earlier ctest run would be reused
+    // a copy of the driver, whose modification time the last check moves
+    std::filesystem::copy_file(defaultDemDriver(), "driver_copy", std::filesystem::copy_options::overwrite_existing);
     DemCaseSpec spec;
+    spec.driver = std::filesystem::absolute("driver_copy").string();
     spec.kind = "contact_relaxation";
     spec.snr = 8;
     spec.seed = 3;
@@ -122,5 +129,9 @@ int main() {
         std::printf("     null twin: largest |record - run without relaxation| %.4g Pa (%.3g sd)\n", worst, worst / tr.at("sigma_Pa").asNumber());
         ok &= check(worst < 8 * tr.at("sigma_Pa").asNumber(), "null twin: its record is the run without relaxation plus noise");
     }
+    std::filesystem::last_write_time("driver_copy", std::filesystem::last_write_time("driver_copy") + std::chrono::seconds(10));
+    Json m3;
+    generateDemCase(nul, "runs_pos", m3);
+    ok &= check(std::filesystem::last_write_time("runs_pos/without.command") != stamp, "a rebuilt driver: the DEM runs are made again");
     return ok ? 0 : 1;
 }

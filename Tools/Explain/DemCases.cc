@@ -60,21 +60,30 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
 
     ensureDirectory(workDir);
     const std::string driver = spec.driver.empty() ? defaultDemDriver() : spec.driver;
-    // Runs a driver case; a run already in workDir with the same command is reused (a positive case
+    // Runs a driver case; a run already in workDir with the same command and the same driver
+    // executable (size and modification time: a rebuilt driver runs again) is reused (a positive case
     // and its null twin share their two runs).
+    const std::string driverId = [&] {
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(driver, ec);
+        if (ec) return std::string("driver: not found as a file");
+        const auto mtime = std::filesystem::last_write_time(driver, ec);
+        return "driver: " + std::to_string(size) + " bytes, modified " + (ec ? std::string("?") : std::to_string(mtime.time_since_epoch().count()));
+    }();
     auto run = [&](const std::string& name, double relaxC) {
         std::ostringstream cmd;
         cmd << shellQuote(driver) << " --steps " << shellQuote(steps.str()) << " --relax_C " << fmt(relaxC) << " --relax_t0 " << fmt(t0)
             << " --kc_over_k 0 --seed " << spec.seed << " --output " << shellQuote(workDir) << " --name " << name << " --threads "
             << spec.threads << " --quiet --vtk 0 --ene 0 " << spec.driverArgs;
         const std::string base = workDir + "/" + name, log = base + ".log", stamp = base + ".command";
-        const bool done = std::filesystem::exists(stamp) && readWholeFile(stamp) == cmd.str() + "\n" && std::filesystem::exists(base + ".recording.csv") &&
+        const std::string stampText = cmd.str() + "\n" + driverId + "\n";
+        const bool done = std::filesystem::exists(stamp) && readWholeFile(stamp) == stampText && std::filesystem::exists(base + ".recording.csv") &&
                           std::filesystem::exists(base + ".protocol.json");
         if (!done) {
             std::remove(stamp.c_str());
             if (std::system((cmd.str() + " > " + shellQuote(log) + " 2>&1").c_str()) != 0)
                 inputError("dem-case: the DEM run '" + name + "' failed (log: " + log + ")");
-            writeWholeFile(stamp, cmd.str() + "\n");  // written last: marks a finished run
+            writeWholeFile(stamp, stampText);  // written last: marks a finished run
         }
         const Protocol p = readProtocol(base + ".protocol.json");
         return std::make_pair(readRecording(base + ".recording.csv", p), p);
