@@ -16,6 +16,7 @@
 #include "ExplainBench.h"
 #include "IO/AtomicFile.h"
 #include "IO/Json.h"
+#include "IO/NumberFormat.h"
 #include "SeveralRecordings.h"
 #include "TempDir.h"
 
@@ -593,6 +594,35 @@ void elasticPlasticRecord(double E, double eMax, double lambda, int n, std::vect
 }
 } // namespace
 
+/// A shell script standing in for the OedometerRelaxation driver: it reads every "--flag value" pair
+/// into a variable v_flag, appends the values of the flags in `logged` (one line per run) to
+/// OUTPUT/calls.txt, and writes NAME.recording.csv: the linear elastic-plastic record (load to strain
+/// em at stiffness E * stress_scale, unload along lam times that stiffness, reload, load on) with
+/// lam = the awk expression `lam` of k, the value of `knob`.
+void writeStandInDriver(const std::string& path, const std::string& knob, const std::string& lam, double E, double em,
+                        const std::vector<std::string>& logged) {
+    std::string log;
+    for (const std::string& f : logged) log += (log.empty() ? "$v_" : " $v_") + f;
+    writeWholeFile(path, R"(#!/bin/sh
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --*) key=$(printf %s "${1#--}" | tr -c 'a-zA-Z0-9_\n' _)
+         case "$2" in --*|'') eval "v_$key=1";; *) eval "v_$key=\$2"; shift;; esac;;
+  esac; shift
+done
+echo ")" + log + R"(" >> "$v_output/calls.txt"
+awk -v k="$v_)" + knob + R"(" -v sc="$v_stress_scale" 'BEGIN {
+  lam = )" + lam + R"(; E = )" + fmt(E) + R"( * sc; em = )" + fmt(em) + R"(; ez = em - em / lam; n = 200; t = 0
+  print "time_s,axial_strain,axial_stress_Pa"
+  for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
+  for (i = 1; i <= n; i++) { e = em - (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
+  for (i = 1; i <= n; i++) { e = ez + (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
+  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
+}' > "$v_output/$v_name.recording.csv"
+)");
+    std::filesystem::permissions(path, std::filesystem::perms::owner_all);
+}
+
 // The plasticity DEM confirmation against a stand-in driver (a shell script) whose "DEM" record is
 // the linear elastic-plastic curve with the bulk unloading ratio 1 + 0.8 (k/k1 - 1), at another
 // stiffness and stress scale than the lab record: the branches are compared in units of their start
@@ -601,25 +631,7 @@ void elasticPlasticRecord(double E, double eMax, double lambda, int n, std::vect
 TEST(ExplainCommand, DemConfirmationPlasticityCalibratesTheUnloadRatio) {
     const pdpm::testing::TempDir tmp;
     const std::string dir = tmp.str();
-    writeWholeFile(dir + "/driver.sh", R"(#!/bin/sh
-out= name= ratio= scale=
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --output) out=$2; shift;; --name) name=$2; shift;; --k_over_k1) ratio=$2; shift;; --stress_scale) scale=$2; shift;;
-    --relax_C|--kc_over_k|--protocol_file|--threads) shift;;
-  esac; shift
-done
-echo "$ratio $scale" >> "$out/calls.txt"
-awk -v r="$ratio" -v sc="$scale" 'BEGIN {
-  lam = 1 + 0.8 * (r - 1); E = 1e6 * sc; em = 0.02; ez = em - em / lam; n = 200; t = 0
-  print "time_s,axial_strain,axial_stress_Pa"
-  for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
-  for (i = 1; i <= n; i++) { e = em - (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
-  for (i = 1; i <= n; i++) { e = ez + (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
-  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
-}' > "$out/$name.recording.csv"
-)");
-    std::filesystem::permissions(dir + "/driver.sh", std::filesystem::perms::owner_all);
+    writeStandInDriver(dir + "/driver.sh", "k_over_k1", "1 + 0.8 * (k - 1)", 1e6, 0.02, {"k_over_k1", "stress_scale"});
     writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
  "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
  "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
@@ -674,12 +686,7 @@ awk -v r="$ratio" -v sc="$scale" 'BEGIN {
     // a bulk ratio that is not linear in k/k1 (1 + 0.8 (k/k1 - 1)^0.7): run b misses the lab ratio by
     // more than 10 % of its excess, so a fourth run from the secant through a and b is made and chosen
     {
-        std::string script = readWholeFile(dir + "/driver.sh");
-        const std::string lin = "lam = 1 + 0.8 * (r - 1);";
-        ASSERT_NE(script.find(lin), std::string::npos);
-        script.replace(script.find(lin), lin.size(), "lam = 1 + 0.8 * (r - 1) ^ 0.7;");
-        writeWholeFile(dir + "/driver2.sh", script);
-        std::filesystem::permissions(dir + "/driver2.sh", std::filesystem::perms::owner_all);
+        writeStandInDriver(dir + "/driver2.sh", "k_over_k1", "1 + 0.8 * (k - 1) ^ 0.7", 1e6, 0.02, {"k_over_k1", "stress_scale"});
         DemOptions opt2 = opt;
         opt2.driver = dir + "/driver2.sh";
         std::filesystem::create_directories(dir + "/dem3");
@@ -712,26 +719,8 @@ awk -v r="$ratio" -v sc="$scale" 'BEGIN {
 TEST(ExplainCommand, DemConfirmationWallFrictionBuildsTheMouldAndChoosesMuW) {
     const pdpm::testing::TempDir tmp;
     const std::string dir = tmp.str();
-    writeWholeFile(dir + "/driver.sh", R"(#!/bin/sh
-out= name= mu= scale= geom= dia= fill= fmu=
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --output) out=$2; shift;; --name) name=$2; shift;; --wall_friction) mu=$2; shift;; --stress_scale) scale=$2; shift;;
-    --geometry) geom=$2; shift;; --diameter) dia=$2; shift;; --fill_height_m) fill=$2; shift;; --fill_wall_friction) fmu=$2; shift;;
-    --*) case "$2" in --*|'') ;; *) shift;; esac;;
-  esac; shift
-done
-echo "$mu $scale $geom $dia $fill $fmu" >> "$out/calls.txt"
-awk -v m="$mu" -v sc="$scale" 'BEGIN {
-  lam = 1 + 3 * m; E = 2e6 * sc; em = 0.03; ez = em - em / lam; n = 200; t = 0
-  print "time_s,axial_strain,axial_stress_Pa"
-  for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
-  for (i = 1; i <= n; i++) { e = em - (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
-  for (i = 1; i <= n; i++) { e = ez + (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
-  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
-}' > "$out/$name.recording.csv"
-)");
-    std::filesystem::permissions(dir + "/driver.sh", std::filesystem::perms::owner_all);
+    writeStandInDriver(dir + "/driver.sh", "wall_friction", "1 + 3 * k", 2e6, 0.03,
+                       {"wall_friction", "stress_scale", "geometry", "diameter", "fill_height_m", "fill_wall_friction"});
     const std::string steps = R"("steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 15000},
            {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 0},
            {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 18000}]})";
