@@ -594,6 +594,25 @@ void elasticPlasticRecord(double E, double eMax, double lambda, int n, std::vect
 }
 } // namespace
 
+/// The lab record of elasticPlasticRecord with time = sample index.
+Recording labCycle(double E, double eMax, double lambda) {
+    Recording rec;
+    elasticPlasticRecord(E, eMax, lambda, 40, rec.strain, rec.stress);
+    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
+    return rec;
+}
+
+/// An explanation that accepted one mechanism with one parameter.
+ExplainResult accepted(int comp, int par, double value) {
+    ExplainResult r;
+    MechanismResult m;
+    m.comp = comp;
+    m.params = {par};
+    m.value = {value};
+    r.mechanisms.push_back(m);
+    return r;
+}
+
 /// A shell script standing in for the OedometerRelaxation driver: it reads every "--flag value" pair
 /// into a variable v_flag, appends the values of the flags in `logged` (one line per run) to
 /// OUTPUT/calls.txt, and writes NAME.recording.csv: the linear elastic-plastic record (load to strain
@@ -637,15 +656,8 @@ TEST(ExplainCommand, DemConfirmationPlasticityCalibratesTheUnloadRatio) {
  "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
            {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 0},
            {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 500000}]})");
-    Recording rec;
-    elasticPlasticRecord(5e7, 0.008, 4.0, 40, rec.strain, rec.stress);
-    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
-    ExplainResult r;
-    MechanismResult m;
-    m.comp = kPlasticity;
-    m.params = {pLambda};
-    m.value = {4.0};  // the surrogate's value; the stand-in's bulk ratio at k/k1 = 4 is 3.4
-    r.mechanisms.push_back(m);
+    const Recording rec = labCycle(5e7, 0.008, 4.0);
+    const ExplainResult r = accepted(kPlasticity, pLambda, 4.0);  // the surrogate's value; the stand-in's bulk ratio at k/k1 = 4 is 3.4
     DemOptions opt;
     opt.driver = dir + "/driver.sh";
     std::filesystem::create_directories(dir + "/dem");
@@ -727,15 +739,9 @@ TEST(ExplainCommand, DemConfirmationWallFrictionBuildsTheMouldAndChoosesMuW) {
     writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
  "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "flour"},
  )" + steps);
-    Recording rec;
-    elasticPlasticRecord(8e6, 0.004, 1.75, 40, rec.strain, rec.stress);  // lab ratio 1.75: mu_w 0.25 for the stand-in
-    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
-    ExplainResult r;
-    MechanismResult m;
-    m.comp = kWallFriction;
-    m.params = {pMuK};
-    m.value = {0.2};  // the surrogate's mu_w K: runs at mu_w = 0.4, 0.2, 0.8 (ratios 2.2, 1.6, 3.4)
-    r.mechanisms.push_back(m);
+    const Recording rec = labCycle(8e6, 0.004, 1.75);  // lab ratio 1.75: mu_w 0.25 for the stand-in
+    // the surrogate's mu_w K: runs at mu_w = 0.4, 0.2, 0.8 (ratios 2.2, 1.6, 3.4)
+    const ExplainResult r = accepted(kWallFriction, pMuK, 0.2);
     DemOptions opt;
     opt.driver = dir + "/driver.sh";
     std::filesystem::create_directories(dir + "/dem");
@@ -818,11 +824,7 @@ TEST(ExplainCommand, DemConfirmationWallFrictionBuildsTheMouldAndChoosesMuW) {
     EXPECT_NE(none.reason.find("aspect ratio"), std::string::npos) << none.reason;
     // ... and a later accepted mechanism that the DEM can confirm is taken instead
     ExplainResult both = r;
-    MechanismResult plast;
-    plast.comp = kPlasticity;
-    plast.params = {pLambda};
-    plast.value = {1.75};
-    both.mechanisms.push_back(plast);
+    both.mechanisms.push_back(accepted(kPlasticity, pLambda, 1.75).mechanisms.front());
     std::filesystem::create_directories(dir + "/dem7");
     EXPECT_EQ(confirmWithDem(both, rec, dir + "/p2.json", opt, dir + "/dem7").mechanism, "plasticity");
     EXPECT_EQ(confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem8").mechanism, "wall_friction") << "with the size known, the first";
