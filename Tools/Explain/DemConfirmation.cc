@@ -277,6 +277,9 @@ struct DemContext {
     /// geometry arguments of every run (empty: the driver's default laterally periodic bed; ft4: the
     /// FT4 mould, without the preset's protocol: the recording's is used)
     std::string geometry = opt.mode == "ft4" ? " --geometry cylinder --device ft4 --diameter 0.05 --fill_height_m 0.05" : "";
+    /// the recording's protocol, read once (null when it could not be read: protocolError says why)
+    const recording::Protocol* protocol = nullptr;
+    std::string protocolError = "";
 
     /// Runs the driver with the recording's protocol and `args`; false when it failed.
     bool run(DemRun run, const std::string& protocolPath, const std::string& args) {
@@ -426,12 +429,9 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
 
     // the protocol's stresses brought into the material's range (Luding's law is piecewise linear
     // in the overlap, and the comparison is in units of each branch's start stress)
+    if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
     double maxTarget = 0;
-    try {
-        for (const recording::Step& st : recording::readProtocol(protocolPath).steps) maxTarget = std::max(maxTarget, st.targetStress);
-    } catch (const InputError& e) {
-        return ctx.fail(std::string("protocol: ") + e.what());
-    }
+    for (const recording::Step& st : ctx.protocol->steps) maxTarget = std::max(maxTarget, st.targetStress);
     if (!(maxTarget > 0)) return ctx.fail("the protocol has no target stress");
     d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
 
@@ -530,12 +530,8 @@ DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, cons
     for (std::size_t q = 0; q < wall.params.size(); ++q)
         if (wall.params[q] == pMuK) muK = wall.value[q];
     if (!(muK > 0)) return ctx.fail("the accepted wall_friction term has no positive mu_w K");
-    recording::Protocol proto;
-    try {
-        proto = recording::readProtocol(protocolPath);
-    } catch (const InputError& e) {
-        return ctx.fail(std::string("protocol: ") + e.what());
-    }
+    if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
+    const recording::Protocol& proto = *ctx.protocol;
     if (!(proto.diameter > 0) || !(proto.height > 0)) {
         ctx.d.status = "not_run";
         ctx.d.reason = "the protocol's device has no diameter and fill height: the DEM mould's aspect ratio H/D is unknown";
@@ -599,6 +595,13 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         d.reason = "no mechanism was accepted, so there is nothing to add to the DEM model";
         return d;
     }
+    recording::Protocol proto;
+    std::string protoError;
+    try {
+        proto = recording::readProtocol(protocolPath);
+    } catch (const InputError& e) {
+        protoError = e.what();
+    }
     // the first accepted mechanism with a DEM counterpart; wall_friction only when the protocol gives
     // the device's size (the mould's H/D), else a later one is preferred (it still gets its not_run
     // when it is the only one)
@@ -607,13 +610,7 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     for (const auto& mr : r.mechanisms) {
         if (!demSupported(mr.comp)) continue;
         if (mr.comp == kWallFriction && !wallWithoutSize) {
-            bool sized = false;
-            try {
-                const recording::Protocol p = recording::readProtocol(protocolPath);
-                sized = p.diameter > 0 && p.height > 0;
-            } catch (const InputError&) {
-            }
-            if (!sized) {
+            if (!protoError.empty() || !(proto.diameter > 0 && proto.height > 0)) {
                 wallWithoutSize = &mr;
                 continue;
             }
@@ -630,6 +627,8 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         return d;
     }
     DemContext ctx{opt, opt.driver.empty() ? defaultDemDriver() : opt.driver, workDir, std::chrono::steady_clock::now(), d};
+    if (protoError.empty()) ctx.protocol = &proto;
+    ctx.protocolError = protoError;
     if (::access(ctx.driver.c_str(), X_OK) != 0) {
         d.status = "not_run";
         d.mechanism = compName(m->comp);
