@@ -617,9 +617,10 @@ ExplainResult accepted(int comp, int par, double value) {
 /// into a variable v_flag, appends the values of the flags in `logged` (one line per run) to
 /// OUTPUT/calls.txt, and writes NAME.recording.csv: the linear elastic-plastic record (load to strain
 /// em at stiffness E * stress_scale, unload along lam times that stiffness, reload, load on) with
-/// lam = the awk expression `lam` of k, the value of `knob`.
+/// lam = the awk expression `lam` of k, the value of `knob`. With `bottom` (an awk expression of k),
+/// also the column bottom_stress_Pa = bottom * axial_stress_Pa.
 void writeStandInDriver(const std::string& path, const std::string& knob, const std::string& lam, double E, double em,
-                        const std::vector<std::string>& logged) {
+                        const std::vector<std::string>& logged, const std::string& bottom = "") {
     std::string log;
     for (const std::string& f : logged) log += (log.empty() ? "$v_" : " $v_") + f;
     writeWholeFile(path, R"(#!/bin/sh
@@ -630,13 +631,17 @@ while [ $# -gt 0 ]; do
   esac; shift
 done
 echo ")" + log + R"(" >> "$v_output/calls.txt"
-awk -v k="$v_)" + knob + R"(" -v sc="$v_stress_scale" 'BEGIN {
-  lam = )" + lam + R"(; E = )" + fmt(E) + R"( * sc; em = )" + fmt(em) + R"(; ez = em - em / lam; n = 200; t = 0
-  print "time_s,axial_strain,axial_stress_Pa"
-  for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
-  for (i = 1; i <= n; i++) { e = em - (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
-  for (i = 1; i <= n; i++) { e = ez + (em - ez) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em - lam * E * (em - e) }
-  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
+awk -v k="$v_)" + knob + R"(" -v sc="$v_stress_scale" 'function row(e, s) {
+    if (tb == "") printf "%d,%.17g,%.17g\n", t++, e, s; else printf "%d,%.17g,%.17g,%.17g\n", t++, e, s, tb * s
+  }
+  BEGIN {
+  lam = )" + lam + R"(; E = )" + fmt(E) + R"( * sc; em = )" + fmt(em) + R"(; ez = em - em / lam; n = 200; t = 0; tb = )" +
+                                   (bottom.empty() ? std::string("\"\"") : bottom) + R"(
+  print "time_s,axial_strain,axial_stress_Pa" (tb == "" ? "" : ",bottom_stress_Pa")
+  for (i = 0; i <= n; i++) { e = em * i / n; row(e, E * e) }
+  for (i = 1; i <= n; i++) { e = em - (em - ez) * i / n; row(e, E * em - lam * E * (em - e)) }
+  for (i = 1; i <= n; i++) { e = ez + (em - ez) * i / n; row(e, E * em - lam * E * (em - e)) }
+  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); row(e, E * e) }
 }' > "$v_output/$v_name.recording.csv"
 )");
     std::filesystem::permissions(path, std::filesystem::perms::owner_all);
@@ -828,6 +833,160 @@ TEST(ExplainCommand, DemConfirmationWallFrictionBuildsTheMouldAndChoosesMuW) {
     std::filesystem::create_directories(dir + "/dem7");
     EXPECT_EQ(confirmWithDem(both, rec, dir + "/p2.json", opt, dir + "/dem7").mechanism, "plasticity");
     EXPECT_EQ(confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem8").mechanism, "wall_friction") << "with the size known, the first";
+}
+
+// The wall_friction DEM confirmation where the recording has a bottom stress sensor: the loading's
+// bottom/piston stress ratio T is Janssen's exp(-4 mu_w K H/D), so mu_w is calibrated by the secant on
+// ln T aimed at the recording's T (first run: the recording's own Janssen estimate 2 mu_w K), and the
+// run closest to it is scored on the held-out reload. The stand-in's T = 1.02 exp(-1.5 mu_w) is
+// linear in ln, so the second run hits the recording's T = 0.7 at mu_w = ln(1.02/0.7)/1.5; its
+// unloading ratio 1 + 3 mu_w then nearly matches the recording's 1.75. With T = 1.02 exp(-1.5
+// mu_w^0.7) a third run from the secant through the first two is needed. A recording whose bottom
+// sensor shows no loss (T above the frictionless mould's) contradicts the accepted wall friction.
+TEST(ExplainCommand, DemConfirmationWallFrictionCalibratesMuWOnTheBottomSensor) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    const std::vector<std::string> logged = {"wall_friction", "stress_scale"};
+    writeStandInDriver(dir + "/driver.sh", "wall_friction", "1 + 3 * k", 2e6, 0.03, logged, "1.02 * exp(-1.5 * k)");
+    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "flour"},
+ "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 15000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 0},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 18000}]})");
+    Recording rec = labCycle(8e6, 0.004, 1.75);
+    for (double s : rec.stress) rec.bottom.push_back(0.7 * s);
+    const ExplainResult r = accepted(kWallFriction, pMuK, 0.01);  // the surrogate's muK plays no part here
+    DemOptions opt;
+    opt.driver = dir + "/driver.sh";
+    std::filesystem::create_directories(dir + "/dem");
+    const DemResult d = confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+    ASSERT_EQ(d.status, "done") << d.reason;
+    EXPECT_EQ(d.calibration, "bottom_over_piston_secant");
+    EXPECT_NEAR(d.labTransmission, 0.7, 1e-9);
+    EXPECT_NEAR(d.transmissionTarget, 0.7, 1e-9) << "the mould keeps the recording's H/D";
+    ASSERT_EQ(d.runs.size(), 3u) << "the secant hits a linear ln T: no third run";
+    EXPECT_NEAR(d.runs[0].transmission, 1.02, 1e-9);
+    const double janssen = 2 * -std::log(0.7) / (4 * 0.02 / 0.07);
+    EXPECT_NEAR(d.runs[1].wallFriction, janssen, 1e-6) << "the first run: the recording's Janssen estimate, K = 0.5";
+    const double muW = std::log(1.02 / 0.7) / 1.5;
+    EXPECT_NEAR(d.runs[2].wallFriction, muW, 1e-6);
+    EXPECT_NEAR(d.runs[2].transmission, 0.7, 1e-6);
+    EXPECT_EQ(d.chosen, 2);
+    EXPECT_LT(d.heldoutAugmented, 0.02 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
+    // the held-out reload's bottom stress: 1.02 s (frictionless) against the recording's 0.7 s
+    EXPECT_GT(d.heldoutBottomBaseline, 0.25 * d.heldoutBaseline);
+    EXPECT_LT(d.heldoutBottomAugmented, 0.02 * d.heldoutBottomBaseline) << d.heldoutBottomAugmented << " vs " << d.heldoutBottomBaseline;
+    const Json j = demJson(d);
+    EXPECT_EQ(j.at("calibration").asString(), "bottom_over_piston_secant");
+    EXPECT_NEAR(j.at("heldout_bottom_rmse_augmented").asNumber(), d.heldoutBottomAugmented, 1e-9);
+    EXPECT_NEAR(j.at("recording_bottom_over_piston_loading").asNumber(), 0.7, 1e-9);
+    EXPECT_NEAR(j.at("runs").asArray("runs")[2].at("dem_bottom_over_piston_loading").asNumber(), 0.7, 1e-6);
+    const std::string md = demMarkdown(d);
+    EXPECT_NE(md.find("recording 0.7; DEM 0.7 with friction, 1.02 without"), std::string::npos) << md;
+
+    // ln T not linear in mu_w: a third run from the secant through the first two, the closest chosen
+    {
+        writeStandInDriver(dir + "/driver2.sh", "wall_friction", "1 + 3 * k", 2e6, 0.03, logged, "1.02 * exp(-1.5 * k ^ 0.7)");
+        DemOptions opt2 = opt;
+        opt2.driver = dir + "/driver2.sh";
+        std::filesystem::create_directories(dir + "/dem2");
+        const DemResult d2 = confirmWithDem(r, rec, dir + "/p.json", opt2, dir + "/dem2");
+        ASSERT_EQ(d2.status, "done") << d2.reason;
+        ASSERT_EQ(d2.runs.size(), 4u);
+        EXPECT_EQ(d2.runs[3].name, "dem_wall_c");
+        // the secant steps: q(mu) = ln 1.02 - 1.5 mu^0.7 aimed at ln 0.7
+        const auto q = [](double mu) { return std::log(1.02) - 1.5 * std::pow(mu, 0.7); };
+        const double target = std::log(0.7), a = janssen, b = a * (target - q(0)) / (q(a) - q(0));
+        const double c = a + (b - a) * (target - q(a)) / (q(b) - q(a));
+        EXPECT_NEAR(d2.runs[2].wallFriction, b, 1e-6);
+        EXPECT_NEAR(d2.runs[3].wallFriction, c, 1e-6);
+        EXPECT_LT(std::abs(std::log(d2.runs[3].transmission) - target), std::abs(std::log(d2.runs[2].transmission) - target));
+        EXPECT_EQ(d2.chosen, 3);
+    }
+    // a bottom sensor that shows no stress lost to the walls: the accepted wall friction is contradicted
+    {
+        Recording flat = rec;
+        for (std::size_t i = 0; i < flat.stress.size(); ++i) flat.bottom[i] = 1.03 * flat.stress[i];
+        std::filesystem::create_directories(dir + "/dem3");
+        const DemResult c = confirmWithDem(r, flat, dir + "/p.json", opt, dir + "/dem3");
+        EXPECT_EQ(c.status, "contradicted") << c.reason;
+        EXPECT_EQ(c.runs.size(), 1u) << "only the frictionless run";
+        EXPECT_NE(c.reason.find("bottom sensor shows no stress lost to the walls"), std::string::npos) << c.reason;
+        EXPECT_EQ(demJson(c).at("status").asString(), "contradicted");
+    }
+}
+
+// The bottom stress sensor (readBottomSensor): the slope of the bottom stress against the piston
+// stress on first loading is Janssen's transmission exp(-4 mu_w K H/D); the intercept (the bed's
+// weight) does not enter it. Lost share above 3 standard errors and kMinWallLoss: wall friction
+// present; below kMinWallLoss even with 3 se: no loss; otherwise inconclusive.
+TEST(ExplainBottomSensor, ReadsTheLoadingTransmission) {
+    const Recording base = labCycle(8e6, 0.004, 1.75);
+    Protocol proto;
+    proto.diameter = 0.05;
+    proto.height = 0.04;
+    std::mt19937_64 g(3);
+    std::normal_distribution<double> N(0, 1);
+    const auto withBottom = [&](double T, double noise) {
+        Recording r = base;
+        for (double s : r.stress) r.bottom.push_back(150 + T * s + noise * N(g));
+        return readBottomSensor(r, proto);
+    };
+    const BottomSensor lossy = withBottom(0.7, 20);
+    ASSERT_TRUE(lossy.present);
+    EXPECT_NEAR(lossy.transmission.slope, 0.7, 0.005);
+    EXPECT_NEAR(lossy.transmission.intercept, 150, 30);
+    EXPECT_GT(lossy.transmission.se, 0.0);
+    EXPECT_LT(lossy.transmission.se, 0.01);
+    EXPECT_NEAR(lossy.janssenMuK, -std::log(lossy.transmission.slope) / (4 * 0.04 / 0.05), 1e-12);
+    EXPECT_EQ(lossy.says, "wall_friction_present");
+    EXPECT_EQ(withBottom(1.0, 20).says, "no_wall_loss");
+    EXPECT_LT(withBottom(1.0, 20).janssenMuK, 0.0) << "no Janssen estimate without a loss";
+    EXPECT_EQ(withBottom(0.9, 3000).says, "inconclusive") << "a loss of 10 % within the noise of a poor sensor";
+    // only the first loading counts: a bottom channel that differs on the unload changes nothing
+    Recording r = base;
+    for (std::size_t i = 0; i < r.stress.size(); ++i) r.bottom.push_back((i <= 40 ? 0.8 : 1.3) * r.stress[i]);
+    EXPECT_NEAR(readBottomSensor(r, proto).transmission.slope, 0.8, 1e-9);
+    EXPECT_FALSE(readBottomSensor(base, proto).present) << "no bottom channel";
+}
+
+// A benchmark case (true plasticity, peak SNR 0.5, white noise) that the piston stress cannot tell
+// from wall friction: answered "ambiguous" (plasticity or wall_friction). A bottom sensor decides:
+// showing no stress lost to the walls it rules wall friction out (plasticity, not ambiguous); showing
+// a loss of 25 % it puts wall friction first.
+TEST(ExplainBottomSensor, DecidesBetweenWallFrictionAndItsLookAlike) {
+    GeneratedCase g;
+    const ExplainResult plain = runCase({"plasticity", 0.5, 0.0, 100177, 2000}, &g);
+    ASSERT_EQ(plain.verdict, "ambiguous") << plain.summary;
+    ASSERT_EQ(plain.ambiguousWith, "wall_friction");
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> N(0, 1);
+    const auto explainWith = [&](double T) {
+        Recording r = g.rec;
+        for (double s : r.stress) r.bottom.push_back(T * s + 0.002 * g.truth.at("sigma_Pa").asNumber() * N(rng));
+        ExplainOptions opt;
+        opt.figures = false;
+        return pdpm::explain::explain(r, g.proto, opt);
+    };
+    const ExplainResult none = explainWith(1.0);
+    EXPECT_EQ(none.bottom.says, "no_wall_loss");
+    EXPECT_EQ(none.verdict, "missing_physics") << none.summary;
+    ASSERT_FALSE(none.mechanisms.empty());
+    EXPECT_EQ(none.mechanisms.front().comp, kPlasticity);
+    bool ruledOut = false;
+    for (const Candidate& c : none.candidates)
+        ruledOut = ruledOut || (c.comp == kWallFriction && !c.testable && c.note.find("ruled out by the bottom stress sensor") != std::string::npos);
+    EXPECT_TRUE(ruledOut);
+
+    const ExplainResult lossy = explainWith(0.75);
+    EXPECT_EQ(lossy.bottom.says, "wall_friction_present");
+    EXPECT_EQ(lossy.verdict, "missing_physics") << lossy.summary;
+    ASSERT_FALSE(lossy.mechanisms.empty());
+    EXPECT_EQ(lossy.mechanisms.front().comp, kWallFriction);
+    bool preferred = false;
+    for (const Candidate& c : lossy.candidates)
+        preferred = preferred || (c.comp == kWallFriction && c.accepted && c.note.find("preferred by the bottom stress sensor") != std::string::npos);
+    EXPECT_TRUE(preferred) << "wall_friction was put first by the sensor, not by its own dBIC";
 }
 
 // ---- several recordings of one material -----------------------------------------------------------

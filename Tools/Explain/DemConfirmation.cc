@@ -136,6 +136,7 @@ struct Branch {
     Phase phase = Phase::Unload;
     double sRef = 0;
     std::vector<double> u, y, s, e;  ///< s, e: stress (Pa) and strain of the samples
+    std::vector<double> b;           ///< bottom stress (Pa) of the samples, when recorded
 };
 
 /// Least-squares slope of y against x over [i0, i1).
@@ -153,7 +154,8 @@ double slope(const std::vector<double>& x, const std::vector<double>& y, std::si
 /// taken where an unload follows a loading (holds in between ignored) and kept for the unloads and
 /// reloads after it until the next loading; branches without a usable reference (no loading of at
 /// least 3 samples before them, a non-positive stress or loading tangent at the start) are skipped.
-std::vector<Branch> cycleBranches(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s) {
+std::vector<Branch> cycleBranches(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s,
+                                  const std::vector<double>& bottom = {}) {
     std::vector<Branch> out;
     const std::vector<PhaseSegment> ph = detectPhases(t, e);
     const PhaseSegment* lastLoad = nullptr;
@@ -189,6 +191,7 @@ std::vector<Branch> cycleBranches(const std::vector<double>& t, const std::vecto
             b.y.push_back(s[i] / sRef);
             b.s.push_back(s[i]);
             b.e.push_back(e[i]);
+            if (bottom.size() == s.size()) b.b.push_back(bottom[i]);
         }
         out.push_back(std::move(b));
     }
@@ -214,25 +217,30 @@ double branchAt(const std::vector<std::pair<double, double>>& uy, double u) {
     return u1 > u0 ? y0 + (y1 - y0) * (u - u0) / (u1 - u0) : y1;
 }
 
-/// DEM predictions of every sample of lab branch k: s_pred = s_ref,lab * y_DEM(u_lab).
-std::vector<double> branchPredict(const std::vector<Branch>& lab, const std::vector<Branch>& dem, std::size_t k) {
+/// DEM predictions of every sample of lab branch k: s_pred = s_ref,lab * y_DEM(u_lab); with `bottom`,
+/// of its bottom stress: b_pred = s_ref,lab * (b / s_ref)_DEM(u_lab) (empty when a record lacks it).
+std::vector<double> branchPredict(const std::vector<Branch>& lab, const std::vector<Branch>& dem, std::size_t k, bool bottom = false) {
+    if (bottom && (dem[k].b.size() != dem[k].u.size() || lab[k].b.size() != lab[k].u.size())) return {};
     std::vector<std::pair<double, double>> uy;
-    for (std::size_t i = 0; i < dem[k].u.size(); ++i) uy.emplace_back(dem[k].u[i], dem[k].y[i]);
+    for (std::size_t i = 0; i < dem[k].u.size(); ++i) uy.emplace_back(dem[k].u[i], bottom ? dem[k].b[i] / dem[k].sRef : dem[k].y[i]);
     std::sort(uy.begin(), uy.end());
     std::vector<double> out;
     for (double u : lab[k].u) out.push_back(lab[k].sRef * branchAt(uy, u));
     return out;
 }
 
-/// RMSE (Pa) of the DEM branches predicting the lab branches with index in `which`.
-double branchRmse(const std::vector<Branch>& lab, const std::vector<Branch>& dem, const std::vector<std::size_t>& which) {
+/// RMSE (Pa) of the DEM branches predicting the lab branches with index in `which` (with `bottom`:
+/// their bottom stress; -1 when a record lacks it).
+double branchRmse(const std::vector<Branch>& lab, const std::vector<Branch>& dem, const std::vector<std::size_t>& which,
+                  bool bottom = false) {
     double ss = 0;
     std::size_t n = 0;
     for (std::size_t k : which) {
         if (k >= dem.size()) return -1;
-        const std::vector<double> pred = branchPredict(lab, dem, k);
+        const std::vector<double> pred = branchPredict(lab, dem, k, bottom);
+        if (pred.size() != lab[k].u.size()) return -1;
         for (std::size_t i = 0; i < pred.size(); ++i) {
-            const double err = lab[k].s[i] - pred[i];
+            const double err = (bottom ? lab[k].b[i] : lab[k].s[i]) - pred[i];
             ss += err * err;
             ++n;
         }
@@ -254,18 +262,29 @@ double unloadRatio(const std::vector<Branch>& b, const std::vector<std::size_t>&
     return suu > 0 ? suy / suu : -1;
 }
 
-std::vector<Branch> readDemBranches(const std::string& base) {
+/// A DEM run's record: its unload/reload branches and its loading transmission.
+struct DemRecord {
+    std::vector<Branch> branches;
+    double transmission = -1;
+};
+
+DemRecord readDemRecord(const std::string& base) {
     const recording::Recording rec = recording::readRecording(base + ".recording.csv");
-    const int ct = rec.column("time_s"), cs = rec.column("axial_stress_Pa"), ce = rec.column("axial_strain");
+    const int ct = rec.column("time_s"), cs = rec.column("axial_stress_Pa"), ce = rec.column("axial_strain"),
+              cb = rec.column("bottom_stress_Pa");
     if (ct < 0 || cs < 0 || ce < 0) inputError(base + ".recording.csv: missing time_s/axial_strain/axial_stress_Pa");
     if (rec.rows.size() < 10) inputError(base + ".recording.csv: fewer than 10 samples");
-    std::vector<double> t, e, s;
+    std::vector<double> t, e, s, b;
     for (const auto& row : rec.rows) {
         t.push_back(row[static_cast<std::size_t>(ct)]);
         e.push_back(row[static_cast<std::size_t>(ce)]);
         s.push_back(row[static_cast<std::size_t>(cs)]);
+        if (cb >= 0) b.push_back(row[static_cast<std::size_t>(cb)]);
     }
-    return cycleBranches(t, e, s);
+    DemRecord out;
+    out.branches = cycleBranches(t, e, s, b);
+    out.transmission = loadingTransmission(t, e, s, b).slope;
+    return out;
 }
 
 /// Shared set-up of the DEM runs: the driver, the work directory and the clock.
@@ -390,9 +409,16 @@ DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const
     return ctx.finish();
 }
 
+/// How a branch confirmation calibrates its knob.
+enum class Calibration {
+    UnloadRatio,   ///< secant on the unloading ratio (over the unload samples with y >= yMin)
+    Grid,          ///< one run at guess * each grid factor, the smallest calibration error chosen
+    Transmission,  ///< secant on ln(bottom/piston) of the first loading, the closest run chosen
+};
+
 /// The ingredient a branch confirmation calibrates: a driver flag whose value `base` is the baseline
-/// (no effect); in secant mode (empty grid) it must make the unloading ratio (over the samples with
-/// y >= yMin) grow.
+/// (no effect); in UnloadRatio mode it must make the unloading ratio grow, in Transmission mode the
+/// bottom/piston stress transmission fall.
 struct BranchKnob {
     std::string mechanism, flag, prefix;  ///< report name, driver flag, run-name prefix
     double base = 0, lo = 0, hi = 0;      ///< baseline value and the range of the augmented runs
@@ -400,19 +426,30 @@ struct BranchKnob {
     std::string args;                     ///< fixed arguments of every run
     double DemRun::* field = nullptr;     ///< where a run keeps the knob's value
     double yMin = 0.2;                    ///< the unloading ratio uses the unload samples with y >= yMin
-    /// empty: calibrate by the secant on the unloading ratio; else one run at guess * each factor,
-    /// the one with the smallest calibration error chosen (for a ratio too noisy to aim at)
-    std::vector<double> grid = {};
+    Calibration calibration = Calibration::UnloadRatio;
+    std::vector<double> grid = {};        ///< Grid: the factors of the guess
+    /// Transmission: the mould's H/D over the recording's (Janssen's exponent scales with H/D)
+    double aspectScale = 1;
 };
 
+const char* calibrationName(Calibration c) {
+    switch (c) {
+        case Calibration::UnloadRatio: return "unload_ratio_secant";
+        case Calibration::Grid: return "unload_error_grid";
+        default: return "bottom_over_piston_secant";
+    }
+}
+
 /// plasticity and wall_friction: the unloads calibrate the knob (plasticity: secant on the unloading
-/// ratio; wall_friction: a grid around the guess chosen by the calibration error), the reloads after
+/// ratio; wall_friction: the secant on the loading's bottom/piston transmission where the recording
+/// has a bottom sensor, else a grid around the guess chosen by the unload error), the reloads after
 /// them are held out (DemConfirmation.h).
 DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recording& rec, const std::string& protocolPath) {
     DemResult& d = ctx.d;
     d.mechanism = knob.mechanism;
+    d.calibration = calibrationName(knob.calibration);
     // lab branches: the unloads calibrate, the reloads are held out
-    const std::vector<Branch> lab = cycleBranches(rec.t, rec.strain, rec.stress);
+    const std::vector<Branch> lab = cycleBranches(rec.t, rec.strain, rec.stress, rec.bottom);
     std::vector<std::size_t> cal, held;
     for (std::size_t k = 0; k < lab.size(); ++k) (lab[k].phase == Phase::Unload ? cal : held).push_back(k);
     if (cal.empty() || held.empty()) {
@@ -425,7 +462,13 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     d.heldoutHolds = static_cast<int>(held.size());
     d.ratioYMin = knob.yMin;
     const double labRatio = unloadRatio(lab, cal, knob.yMin);
-    if (!(labRatio > 0)) return ctx.fail("no unloading stiffness could be measured on the calibration branches of the recording");
+    const bool byTransmission = knob.calibration == Calibration::Transmission;
+    if (!(labRatio > 0) && !byTransmission)  // the sensor's calibration reports the ratio but does not need it
+        return ctx.fail("no unloading stiffness could be measured on the calibration branches of the recording");
+    if (byTransmission) {
+        d.labTransmission = loadingTransmission(rec.t, rec.strain, rec.stress, rec.bottom).slope;
+        if (!(d.labTransmission > 0)) return ctx.fail("the recording's bottom stress gives no bottom/piston ratio on its first loading");
+    }
 
     // the protocol's stresses brought into the material's range (Luding's law is piecewise linear
     // in the overlap, and the comparison is in units of each branch's start stress)
@@ -435,14 +478,16 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     if (!(maxTarget > 0)) return ctx.fail("the protocol has no target stress");
     d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
 
-    auto runDem = [&](const std::string& name, double value) -> std::vector<Branch> {
+    auto runDem = [&](const std::string& name, double value) -> DemRecord {
         DemRun run;
         run.name = name;
         run.*knob.field = value;
         const std::string args = knob.args + " " + knob.flag + " " + fmt(value) + " --stress_scale " + fmt(d.stressScale);
         if (!ctx.run(run, protocolPath, args)) return {};
         try {
-            return readDemBranches(ctx.workDir + "/" + name);
+            DemRecord r = readDemRecord(ctx.workDir + "/" + name);
+            d.runs.back().transmission = r.transmission;
+            return r;
         } catch (const InputError&) {
             return {};  // an unreadable DEM record: the run counts as failed
         }
@@ -452,13 +497,33 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
                         std::to_string(lab.size()) + " (same count, same phase in turn; log: " + name + ".log)");
     };
     std::vector<std::vector<Branch>> all;  // the baseline, then the augmented runs in turn
+    std::vector<double> measured;          // each run's calibration quantity (unloading ratio or ln transmission)
     const auto runPaired = [&](const std::string& name, double value) {
-        all.push_back(runDem(name, value));
+        DemRecord r = runDem(name, value);
+        all.push_back(std::move(r.branches));
+        measured.push_back(byTransmission ? (r.transmission > 0 ? std::log(r.transmission) : std::numeric_limits<double>::quiet_NaN())
+                                          : unloadRatio(all.back(), cal, knob.yMin));
         return samePhases(lab, all.back());
     };
     if (!runPaired("dem_baseline", knob.base)) return mismatch("dem_baseline");
+    // the recording's value of the calibration quantity, for the DEM mould (the transmission's
+    // excess loss over the frictionless DEM bed scaled by the ratio of the aspect ratios H/D)
+    double target = labRatio;
+    if (byTransmission) {
+        const double q0 = measured[0];
+        if (!std::isfinite(q0)) return ctx.fail("the frictionless DEM run recorded no bottom stress (log: dem_baseline.log)");
+        if (std::log(d.labTransmission) > q0 - 0.01) {
+            d.status = "contradicted";
+            d.reason = "the recording's bottom/piston stress ratio on loading, " + fmt(d.labTransmission) +
+                       ", is not below the frictionless DEM mould's " + fmt(std::exp(q0)) +
+                       ": its bottom sensor shows no stress lost to the walls, so wall friction is not what the record shows";
+            return ctx.finish();
+        }
+        target = q0 + (std::log(d.labTransmission) - q0) * knob.aspectScale;
+        d.transmissionTarget = std::exp(target);
+    }
     const double valueA = std::clamp(knob.guess, knob.lo, knob.hi);
-    if (!knob.grid.empty()) {
+    if (knob.calibration == Calibration::Grid) {
         // a fixed set of values around the guess, chosen by the calibration error alone (a value the
         // clamp to [lo, hi] makes equal to an earlier run's is not run twice)
         std::vector<double> used;
@@ -471,19 +536,26 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
         }
     } else {
         if (!runPaired(knob.prefix + "_a", valueA)) return mismatch(knob.prefix + "_a");
-        // second run: the secant through (base, baseline's ratio) and (value of run a, its ratio)
-        // aimed at the recording's measured ratio
-        const double r0 = unloadRatio(all[0], cal, knob.yMin), rA = unloadRatio(all[1], cal, knob.yMin);
-        if (!(rA > r0 + 1e-3))
-            return ctx.fail("the DEM bed's unloading ratio did not grow with " + knob.flag.substr(2) + " (" + fmt(r0) + " at " + fmt(knob.base) +
-                            ", " + fmt(rA) + " at " + fmt(valueA) + "): no calibration possible");
-        const double valueB = std::clamp(knob.base + (valueA - knob.base) * (labRatio - r0) / (rA - r0), knob.lo, knob.hi);
+        // second run: the secant through (base, baseline's value) and (value of run a, its value)
+        // aimed at the recording's
+        const double q0 = measured[0], qA = measured[1];
+        if (!std::isfinite(qA)) return ctx.fail("DEM run " + knob.prefix + "_a recorded no bottom stress (log: " + knob.prefix + "_a.log)");
+        const bool moved = byTransmission ? qA < q0 - 1e-3 : qA > q0 + 1e-3;
+        if (!moved) {
+            const std::string what = byTransmission ? "bottom/piston stress ratio did not fall" : "unloading ratio did not grow";
+            const double v0 = byTransmission ? std::exp(q0) : q0, vA = byTransmission ? std::exp(qA) : qA;
+            return ctx.fail("the DEM bed's " + what + " with " + knob.flag.substr(2) + " (" + fmt(v0) + " at " + fmt(knob.base) + ", " +
+                            fmt(vA) + " at " + fmt(valueA) + "): no calibration possible");
+        }
+        const double valueB = std::clamp(knob.base + (valueA - knob.base) * (target - q0) / (qA - q0), knob.lo, knob.hi);
         if (!runPaired(knob.prefix + "_b", valueB)) return mismatch(knob.prefix + "_b");
-        // third run when neither hit the recording's ratio within 10 % of its excess over 1 (the
-        // bulk ratio is not linear in the knob): the secant through runs a and b
-        const double rB = unloadRatio(all[2], cal, knob.yMin), tol = 0.1 * std::max(labRatio - 1, 0.05);
-        if (std::abs(rA - labRatio) > tol && std::abs(rB - labRatio) > tol && std::abs(rB - rA) > 1e-3 && valueB != valueA) {
-            const double valueC = std::clamp(valueA + (valueB - valueA) * (labRatio - rA) / (rB - rA), knob.lo, knob.hi);
+        // third run when neither hit the recording's value within 10 % of its distance from the
+        // neutral value (unloading ratio: 1; transmission: the frictionless bed's), the quantity
+        // not being linear in the knob: the secant through runs a and b
+        const double qB = measured[2];
+        const double tol = byTransmission ? 0.1 * std::max(std::abs(target - q0), 0.01) : 0.1 * std::max(labRatio - 1, 0.05);
+        if (std::abs(qA - target) > tol && std::abs(qB - target) > tol && std::abs(qB - qA) > 1e-3 && valueB != valueA) {
+            const double valueC = std::clamp(valueA + (valueB - valueA) * (target - qA) / (qB - qA), knob.lo, knob.hi);
             if (!runPaired(knob.prefix + "_c", valueC)) return mismatch(knob.prefix + "_c");
         }
     }
@@ -491,14 +563,23 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     for (std::size_t q = 0; q < all.size(); ++q) {
         d.runs[q].calibrationRmse = branchRmse(lab, all[q], cal);
         d.runs[q].heldoutRmse = branchRmse(lab, all[q], held);
+        if (byTransmission) d.runs[q].heldoutBottomRmse = branchRmse(lab, all[q], held, true);
         d.runs[q].macro = unloadRatio(all[q], cal, knob.yMin);
     }
     d.labMacro = labRatio;
-    d.chosen = 1;  // the augmented run with the smallest calibration error
+    // the augmented run with the smallest calibration error, or (transmission) the one whose
+    // bottom/piston ratio is closest to the recording's
+    d.chosen = 1;
+    const auto better = [&](std::size_t q, std::size_t c) {
+        return byTransmission ? std::abs(measured[q] - target) < std::abs(measured[c] - target)
+                              : d.runs[q].calibrationRmse < d.runs[c].calibrationRmse;
+    };
     for (std::size_t q = 2; q < d.runs.size(); ++q)
-        if (d.runs[q].calibrationRmse < d.runs[static_cast<std::size_t>(d.chosen)].calibrationRmse) d.chosen = static_cast<int>(q);
+        if (better(q, static_cast<std::size_t>(d.chosen))) d.chosen = static_cast<int>(q);
     d.heldoutBaseline = d.runs[0].heldoutRmse;
     d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
+    d.heldoutBottomBaseline = d.runs[0].heldoutBottomRmse;
+    d.heldoutBottomAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutBottomRmse;
     d.status = "done";
     std::vector<Compared> rows;
     for (std::size_t k = 0; k < lab.size(); ++k) {
@@ -555,16 +636,29 @@ DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, cons
     // fast: ramps at the ft4 preset's strain rate (half the time of the driver's default; the
     // unloading ratio of a 20 mm mould moved by 1-3 % between the two, see the documentation)
     if (ctx.opt.mode != "ft4") ctx.geometry += " --ramp_rate 1";
-    // the guess: Janssen's product mu_w K with K ~ 0.5 for a poured bed, at least kMinWallFrictionGuess
-    // (the surrogate's muK came out 10 times too small on a DEM-made record). Runs at the guess, half
-    // and twice it, chosen by the calibration error: in a mould of about a thousand particles the
-    // unloading ratio is not monotone in mu_w (collapses near the peak move the loading tangent by a
-    // factor 4 between runs), so no secant can aim at it. Every bed is poured with frictionless walls
-    // (--fill_wall_friction 0): all runs compress the same bed and differ in mu_w only.
+    // with a bottom sensor: the loading's bottom/piston transmission is Janssen's exp(-4 mu_w K H/D)
+    // and falls steadily with mu_w (30 mm mould, H/D ~ 1, three fill seeds: 1.005-1.011 at mu_w = 0,
+    // 0.77-0.80 at 0.16-0.2, 0.65-0.70 at 0.26-0.33), so a secant on its logarithm aims at the
+    // recording's. The first run: the recording's own Janssen estimate, 2 mu_w K with K ~ 0.5.
+    const std::string args = " --relax_C 0 --kc_over_k 0 --k_over_k1 1 --fill_wall_friction 0 --d_mean " + fmt(kDemMeanDiameter);
+    const double labT = loadingTransmission(rec.t, rec.strain, rec.stress, rec.bottom).slope;
+    if (labT > 0) {
+        const double janssen = std::max(-std::log(labT), 0.0) / (4 * aspect);
+        BranchKnob knob{"wall_friction", "--wall_friction", "dem_wall", 0, 0.02, kMaxWallFriction,
+                        std::clamp(2 * janssen, 0.02, kMaxWallFriction), args, &DemRun::wallFriction, 0.6, Calibration::Transmission};
+        knob.aspectScale = (H / D) / aspect;
+        return confirmBranches(ctx, knob, rec, protocolPath);
+    }
+    // without: runs at the guess, half and twice it, chosen by the calibration error. The guess:
+    // Janssen's product mu_w K with K ~ 0.5 for a poured bed, at least kMinWallFrictionGuess (the
+    // surrogate's muK came out 10 times too small on a DEM-made record). In a mould of about a
+    // thousand particles the unloading ratio is not monotone in mu_w (collapses near the peak move the
+    // loading tangent by a factor 4 between runs), so no secant can aim at it. Every bed is poured
+    // with frictionless walls (--fill_wall_friction 0): all runs compress the same bed and differ in
+    // mu_w only.
     const double guess = std::clamp(std::max(2 * muK, kMinWallFrictionGuess), 0.02, kMaxWallFriction);
-    const BranchKnob knob{"wall_friction", "--wall_friction", "dem_wall", 0, 0.02, kMaxWallFriction, guess,
-                          " --relax_C 0 --kc_over_k 0 --k_over_k1 1 --fill_wall_friction 0 --d_mean " + fmt(kDemMeanDiameter),
-                          &DemRun::wallFriction, 0.6, {1, 0.5, 2}};
+    const BranchKnob knob{"wall_friction", "--wall_friction", "dem_wall", 0, 0.02, kMaxWallFriction, guess, args,
+                          &DemRun::wallFriction, 0.6, Calibration::Grid, {1, 0.5, 2}};
     return confirmBranches(ctx, knob, rec, protocolPath);
 }
 
@@ -670,12 +764,20 @@ Json demJson(const DemResult& d) {
             j.set("recording_aspect_ratio_H_over_D", d.recordingAspect);
         }
     }
+    if (branches && !d.calibration.empty()) j.set("calibration", d.calibration);
+    if (d.labTransmission > 0) j.set("recording_bottom_over_piston_loading", d.labTransmission);
+    if (d.transmissionTarget > 0) j.set("bottom_over_piston_target", d.transmissionTarget);
+    if (d.heldoutBottomBaseline >= 0) {
+        j.set("heldout_bottom_rmse_baseline", num(d.heldoutBottomBaseline));
+        j.set("heldout_bottom_rmse_augmented", num(d.heldoutBottomAugmented));
+    }
     Json runs = Json::array();
     for (const DemRun& r : d.runs) {
         Json o = Json::object({{"name", r.name}});
         if (branches) {
             if (plastic) o.set("k_over_k1", r.kOverK1);
             else o.set("wall_friction", r.wallFriction);
+            if (d.calibration == "bottom_over_piston_secant") o.set("dem_bottom_over_piston_loading", num(r.transmission));
             o.set("dem_unload_stiffness_ratio_calibration_branches", num(r.macro));
         } else {
             o.set("relax_C", r.relaxC);
@@ -684,6 +786,7 @@ Json demJson(const DemResult& d) {
         }
         o.set("calibration_rmse_Pa", num(r.calibrationRmse));
         o.set("heldout_rmse_Pa", num(r.heldoutRmse));
+        if (r.heldoutBottomRmse >= 0) o.set("heldout_bottom_rmse_Pa", r.heldoutBottomRmse);
         o.set("command", r.command);
         runs.push(o);
     }
@@ -702,7 +805,12 @@ std::string demMarkdown(const DemResult& d) {
     const double change = d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0;
     const double gain = std::abs(change);
     const char* way = change >= 0 ? "lower" : "higher";
-    char buf[1400];
+    char buf[2000], atMould[80] = "", bottomHeld[120] = "";
+    if (d.heldoutBottomBaseline >= 0 && d.heldoutBottomAugmented >= 0)
+        std::snprintf(bottomHeld, sizeof bottomHeld, "; the bottom stress on the same branches by %.4g Pa and %.4g Pa",
+                      d.heldoutBottomBaseline, d.heldoutBottomAugmented);
+    if (d.transmissionTarget > 0 && std::abs(d.transmissionTarget - d.labTransmission) > 1e-9 * d.labTransmission)
+        std::snprintf(atMould, sizeof atMould, ", %.3g at the mould's H/D", d.transmissionTarget);
     if (d.mechanism == "plasticity")
         std::snprintf(buf, sizeof buf,
                       "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
@@ -714,6 +822,22 @@ std::string demMarkdown(const DemResult& d) {
                       "commands and logs are in `dem/`.\n",
                       d.stressScale, a.kOverK1, d.calibrationHolds, d.labMacro, a.macro, d.heldoutHolds, d.heldoutBaseline,
                       d.heldoutAugmented, gain, way);
+    else if (d.mechanism == "wall_friction" && d.calibration == "bottom_over_piston_secant")
+        std::snprintf(buf, sizeof buf,
+                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
+                      "material's range) in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), "
+                      "every bed poured with frictionless walls, once with frictionless walls and with wall friction "
+                      "mu_w = %.4g, calibrated so that the bottom plate carries the share of the piston stress the "
+                      "recording's bottom sensor shows on first loading (recording %.3g%s; DEM %.3g with friction, %.3g "
+                      "without; %zu runs with friction, secant on its logarithm). On the %d reload branch(es), compared in "
+                      "units of each branch's start stress and loading stiffness, the DEM misses the recording by %.4g Pa "
+                      "(RMS) with frictionless walls and %.4g Pa with wall friction (%.1f %% %s)%s. Runs, commands and "
+                      "logs are in `dem/`.\n",
+                      d.stressScale, d.mouldDiameter, d.mouldHeight, d.mouldHeight / d.mouldDiameter, d.recordingAspect,
+                      a.wallFriction, d.labTransmission,
+                      atMould,
+                      a.transmission, d.runs.front().transmission, d.runs.size() - 1, d.heldoutHolds, d.heldoutBaseline,
+                      d.heldoutAugmented, gain, way, bottomHeld);
     else if (d.mechanism == "wall_friction")
         std::snprintf(buf, sizeof buf,
                       "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "

@@ -26,10 +26,15 @@
 // And for wall_friction (driver flag --wall_friction mu_w of the mould, piston and bottom, in the
 // cylinder geometry with the recording's aspect ratio H/D; plasticity, adhesion and relaxation off in
 // every run, every bed poured with frictionless walls, so that all runs compress the same bed): the
-// same branches and the same normalisation, but no secant: runs at mu_w = 0 (baseline), g, g/2 and
-// 2g with g = 2 muK (muK the explainer's Janssen product mu_w K, K ~ 0.5; at least
-// kMinWallFrictionGuess), the augmented run with the smallest calibration error scored. The
-// unloading ratio over the top of each unload (y >= 0.6, where the wall shear turns round) is
+// same branches, normalisation and held-out reloads. Where the recording has a bottom stress sensor,
+// mu_w is calibrated on it: the slope of bottom against piston stress on first loading
+// (loadingTransmission, Janssen's exp(-4 mu_w K H/D)) falls steadily with mu_w, so runs at mu_w = 0,
+// at the recording's own Janssen estimate 2 (-ln T)/(4 H/D), and from the secant on ln T aimed at the
+// recording's T (a third secant step when neither is within 10 % of the recording's log loss); the run
+// closest to it is scored. A recording whose sensor shows no loss (T not below the frictionless
+// mould's) makes the status "contradicted". Without a bottom sensor: runs at mu_w = 0, g, g/2 and 2g
+// with g = 2 muK (muK the explainer's Janssen product, K ~ 0.5; at least kMinWallFrictionGuess), the
+// augmented run with the smallest unload error scored. The piston-only unloading ratio (y >= 0.6) is
 // reported but not aimed at: in a mould of a thousand particles it is not monotone in mu_w
 // (Documentation/tools-explain.md).
 #pragma once
@@ -67,7 +72,10 @@ struct DemRun {
     double relaxC = 0, relaxT0 = 0;  ///< contact_relaxation runs
     double kOverK1 = 0;              ///< plasticity runs
     double wallFriction = 0;         ///< wall_friction runs (mu_w)
+    /// bottom/piston stress ratio of the first loading (-1: no bottom stress recorded)
+    double transmission = -1;
     double calibrationRmse = -1, heldoutRmse = -1;  ///< Pa
+    double heldoutBottomRmse = -1;  ///< wall_friction with a bottom sensor: the held-out branches' bottom stress (Pa)
     /// contact_relaxation: mean fitted C of the DEM calibration holds; plasticity, wall_friction:
     /// unloading stiffness ratio measured on the DEM calibration branches
     double macro = -1;
@@ -76,7 +84,9 @@ struct DemRun {
 };
 
 struct DemResult {
-    std::string status = "not_run";  ///< done | not_run | not_needed | not_supported | failed
+    /// done | not_run | not_needed | not_supported | failed | contradicted (the recording's own
+    /// bottom sensor shows no stress lost to the walls although wall_friction was accepted)
+    std::string status = "not_run";
     std::string reason, mechanism;
     std::vector<DemRun> runs;
     int chosen = -1;  ///< index of the scored augmented run
@@ -86,7 +96,15 @@ struct DemResult {
     double mouldDiameter = 0, mouldHeight = 0;  ///< wall_friction: the DEM mould (m)
     double recordingAspect = 0;  ///< wall_friction: the recording's H/D (the mould's differs where it cannot be kept)
     double ratioYMin = 0;     ///< plasticity, wall_friction: the unloading ratio's window, unload samples with y >= ratioYMin
+    /// plasticity, wall_friction: unload_ratio_secant | unload_error_grid | bottom_over_piston_secant
+    std::string calibration;
+    /// bottom_over_piston_secant: the recording's bottom/piston ratio on its first loading, and the
+    /// value aimed at in the DEM mould (the same where the mould keeps the recording's H/D)
+    double labTransmission = -1, transmissionTarget = -1;
     double heldoutBaseline = -1, heldoutAugmented = -1;
+    /// wall_friction with a bottom sensor: the held-out branches' bottom stress (Pa), the second
+    /// channel of the same held-out part (-1: not recorded)
+    double heldoutBottomBaseline = -1, heldoutBottomAugmented = -1;
     double wallSeconds = 0;
 };
 

@@ -391,6 +391,28 @@ void readModelFile(const std::string& path, ExplainOptions& opt) {
     }
 }
 
+BottomSensor readBottomSensor(const Recording& rec, const Protocol& proto) {
+    BottomSensor b;
+    if (rec.bottom.empty()) return b;
+    b.transmission = loadingTransmission(rec.t, rec.strain, rec.stress, rec.bottom);
+    const Transmission& tr = b.transmission;
+    if (!(tr.slope > 0) || !(tr.se >= 0)) return b;
+    b.present = true;
+    const double loss = 1 - tr.slope;
+    if (proto.height > 0 && proto.diameter > 0 && tr.slope < 1) b.janssenMuK = -std::log(tr.slope) / (4 * proto.height / proto.diameter);
+    if (loss > std::max(3 * tr.se, kMinWallLoss)) b.says = "wall_friction_present";
+    else if (loss + 3 * tr.se < kMinWallLoss) b.says = "no_wall_loss";
+    else b.says = "inconclusive";
+    return b;
+}
+
+namespace {
+std::string bottomSensorWords(const BottomSensor& b) {
+    return "the bottom plate carries " + num(b.transmission.slope, 3) + " +- " + num(3 * b.transmission.se, 2) +
+           " (3 se) of the piston stress on first loading";
+}
+} // namespace
+
 ExplainResult explain(const Recording& rec, const Protocol& proto, const ExplainOptions& opt) {
     // Eigen splits large matrix products over the OpenMP threads outside parallel regions, with a
     // blocking that depends on the thread count; the parallelism here is over candidates and folds,
@@ -407,6 +429,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     const std::size_t n = rec.size();
     const std::vector<double>& y = rec.stress;
     std::mt19937_64 rng(opt.seed);
+    R.bottom = readBottomSensor(rec, proto);
 
     // ---- 1. baseline (+ always-on components) ----
     std::vector<char> on(kNumComp, 0);
@@ -573,6 +596,12 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                 roundC[std::size_t(ti)] = cd;
                 continue;
             }
+            if (c == kWallFriction && R.bottom.says == "no_wall_loss") {
+                cd.testable = false;
+                cd.note = "ruled out by the bottom stress sensor: " + bottomSensorWords(R.bottom) + ", no stress lost to the walls";
+                roundC[std::size_t(ti)] = cd;
+                continue;
+            }
             if (starts.empty()) {
                 cd.testable = false;
                 cd.note = std::string("not testable with an axial-stress recording: needs ") + missingSegment(c);
@@ -646,6 +675,20 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (std::size_t k = 0; k < roundC.size(); ++k)
             if (roundC[k].testable) order.push_back(k);
         std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return roundC[a].dBIC > roundC[b].dBIC; });
+        // a bottom sensor that shows stress lost to the walls separates wall_friction from what imitates
+        // it on the piston (the axial record alone cannot): among the candidates passing the criterion
+        // within the ambiguity margin of the best, wall_friction goes first, and it is never "ambiguous"
+        const bool wallSeen = R.bottom.says == "wall_friction_present";
+        if (wallSeen && !order.empty()) {
+            for (std::size_t oi = 1; oi < order.size(); ++oi) {
+                const Candidate& w = roundC[order[oi]];
+                if (w.comp == kWallFriction && w.dBIC >= opt.bicThreshold && roundC[order[0]].dBIC - w.dBIC < opt.ambiguityMargin) {
+                    std::rotate(order.begin(), order.begin() + static_cast<long>(oi), order.begin() + static_cast<long>(oi) + 1);
+                    roundC[order[0]].note = "preferred by the bottom stress sensor: " + bottomSensorWords(R.bottom);
+                    break;
+                }
+            }
+        }
         int chosen = -1;
         for (std::size_t oi = 0; oi < order.size(); ++oi) {
             Candidate& cd = roundC[order[oi]];
@@ -667,13 +710,14 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                 chosen = int(order[oi]);
                 if (!cd.accepted) cd.note = "forced addition (benchmark control), fails the criterion";
                 else {
-                    cd.note = "accepted";
+                    cd.note = cd.note.rfind("preferred by the bottom", 0) == 0 ? "accepted, " + cd.note : "accepted";
                     for (int u : cd.dropsNuisances) cd.note += std::string(", without the nuisance ") + compName(u);
                 }
                 // near-tie with the runner-up in the first round: ambiguous
                 if (round == 1 && cd.accepted) {
                     for (std::size_t oj = oi + 1; oj < order.size(); ++oj) {
                         const Candidate& o = roundC[order[oj]];
+                        if (wallSeen && (cd.comp == kWallFriction || o.comp == kWallFriction)) continue;  // the sensor separates them
                         if (o.dBIC >= opt.bicThreshold && cd.dBIC - o.dBIC < opt.ambiguityMargin) {
                             ambiguous = true;
                             R.ambiguousWith = compName(o.comp);
@@ -1107,6 +1151,20 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     for (int c : R.nuisancesDropped) nd.push(compName(c));
     j.set("nuisances_dropped", nd);
     if (opt.knownCompliance >= 0) j.set("instrument_compliance_ratio_calibrated", opt.knownCompliance);
+    if (!rec.bottom.empty()) {
+        const BottomSensor& b = R.bottom;
+        Json o = Json::object();
+        o.set("usable", b.present);
+        if (b.present) {
+            o.set("loading_transmission", b.transmission.slope);
+            o.set("loading_transmission_se", b.transmission.se);
+            o.set("intercept_Pa", b.transmission.intercept);
+            o.set("samples", b.transmission.samples);
+            o.set("janssen_mu_w_K", b.janssenMuK > 0 ? Json(b.janssenMuK) : Json());
+            o.set("says", b.says);
+        }
+        j.set("bottom_sensor", o);
+    }
     Json wins = Json::array();
     for (const auto& w : R.windows) wins.push(windowJson(w));
     j.set("windows", wins);
@@ -1220,6 +1278,22 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
        << proto.height << " m).\n\n";
     md << "## Verdict: **" << R.verdict << "**\n\n" << R.summary << "\n\n";
     md << "## In plain words\n\n";
+    if (R.bottom.present) {
+        const BottomSensor& b = R.bottom;
+        md << "Bottom stress sensor: " << bottomSensorWords(b);
+        if (b.says == "wall_friction_present") {
+            md << ", so " << num(100 * (1 - b.transmission.slope), 2) << " % of it is carried by the walls";
+            if (b.janssenMuK > 0) md << " (Janssen: mu_w K = " << num(b.janssenMuK, 3) << " at H/D " << num(proto.height / proto.diameter, 3) << ")";
+            md << ". Wall friction is thus measured directly; where it and another mechanism fit the piston stress "
+                  "equally well, the sensor decides for wall friction.\n\n";
+        } else if (b.says == "no_wall_loss") {
+            md << ": no stress is lost to the walls (less than " << num(100 * kMinWallLoss, 2)
+               << " %), so wall friction is ruled out and not tested.\n\n";
+        } else {
+            md << ": too uncertain to say whether the walls carry more than " << num(100 * kMinWallLoss, 2)
+               << " % of it; wall friction is judged on the piston stress alone.\n\n";
+        }
+    }
     if (opt.knownCompliance > 0)
         md << "The instrument compliance is taken as calibrated (ratio " << num(opt.knownCompliance, 3)
            << ", from MODEL.json) and held there, not fitted.\n\n";

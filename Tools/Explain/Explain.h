@@ -79,6 +79,21 @@ struct MechanismResult {
     HoldFitSummary perHold;
 };
 
+/// What the recording's bottom stress sensor says about wall friction (Documentation/tools-explain.md,
+/// "Bottom stress sensor"): the loading's bottom/piston transmission (ExplainData.h) and its verdict,
+/// wall_friction_present when 1 - slope exceeds both 3 standard errors and kMinWallLoss,
+/// no_wall_loss when even 1 - slope + 3 se stays below kMinWallLoss, else inconclusive.
+struct BottomSensor {
+    bool present = false;  ///< the recording has a usable bottom_stress_Pa channel
+    Transmission transmission;
+    double janssenMuK = -1;  ///< -ln(slope) / (4 H/D) when the protocol gives H and D and slope < 1
+    std::string says;        ///< wall_friction_present | no_wall_loss | inconclusive
+};
+/// Smallest share of the piston stress lost to the walls on loading that the bottom sensor reports
+/// as wall friction (a 3 % gain mismatch between two load cells is within a lab's calibration).
+inline constexpr double kMinWallLoss = 0.03;
+BottomSensor readBottomSensor(const Recording& rec, const Protocol& proto);
+
 struct ExplainResult {
     std::string verdict;
     std::string summary;
@@ -98,6 +113,7 @@ struct ExplainResult {
     int heldParam = -1;  ///< parameter held in every fit (the calibrated compliance), or -1
     std::vector<double> yBaseline, yFinal;  ///< model predictions
     std::vector<Phase> phaseOfSample;
+    BottomSensor bottom;
 };
 
 ExplainResult explain(const Recording& rec, const Protocol& proto, const ExplainOptions& opt);

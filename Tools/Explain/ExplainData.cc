@@ -120,6 +120,7 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
     for (double e : r.strain)
         if (std::abs(e) >= 1) inputError(path + ": axial strain " + std::to_string(e) + " is not in (-1, 1)");
     if (tab.hasColumn("lateral_stress_Pa")) r.lateral = tab.columnValues("lateral_stress_Pa");
+    if (tab.hasColumn("bottom_stress_Pa")) r.bottom = tab.columnValues("bottom_stress_Pa");
     double smax = 0, emin = r.strain[0], emax = r.strain[0];
     for (std::size_t i = 0; i < r.size(); ++i) {
         smax = std::max(smax, std::abs(r.stress[i]));
@@ -240,6 +241,46 @@ std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::
         }
     }
     return seg;
+}
+
+Transmission loadingTransmission(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s,
+                                 const std::vector<double>& b) {
+    Transmission out;
+    if (b.size() != s.size() || s.size() != e.size()) return out;
+    std::vector<std::size_t> load;
+    for (const PhaseSegment& seg : detectPhases(t, e)) {
+        if (seg.phase == Phase::Unload || seg.phase == Phase::Reload) break;
+        if (seg.phase == Phase::Load)
+            for (std::size_t i = seg.begin; i < seg.end; ++i) load.push_back(i);
+    }
+    double top = 0;
+    for (std::size_t i : load) top = std::max(top, s[i]);
+    std::vector<std::size_t> idx;
+    for (std::size_t i : load)
+        if (top > 0 && s[i] >= 0.3 * top && std::isfinite(b[i]) && std::isfinite(s[i])) idx.push_back(i);
+    const double n = static_cast<double>(idx.size());
+    if (idx.size() < 5) return out;
+    double ms = 0, mb = 0;
+    for (std::size_t i : idx) ms += s[i], mb += b[i];
+    ms /= n, mb /= n;
+    double sxx = 0, sxy = 0;
+    for (std::size_t i : idx) sxx += (s[i] - ms) * (s[i] - ms), sxy += (s[i] - ms) * (b[i] - mb);
+    if (!(sxx > 0)) return out;
+    out.slope = sxy / sxx;
+    out.intercept = mb - out.slope * ms;
+    out.samples = static_cast<int>(idx.size());
+    // residual sd and lag-1 autocorrelation (consecutive samples of the loading): n_eff = n (1 - r)/(1 + r)
+    double ss = 0, s01 = 0, prev = 0;
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+        const double r = b[idx[k]] - out.intercept - out.slope * s[idx[k]];
+        ss += r * r;
+        if (k > 0) s01 += r * prev;
+        prev = r;
+    }
+    const double rho = ss > 0 ? std::clamp(s01 / ss, 0.0, 0.99) : 0.0;
+    const double nEff = std::max(3.0, n * (1 - rho) / (1 + rho));
+    out.se = std::sqrt(ss / (n - 2) / sxx * n / nEff);
+    return out;
 }
 
 } // namespace pdpm::explain

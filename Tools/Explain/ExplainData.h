@@ -41,6 +41,7 @@ struct Recording {
     std::vector<double> strain;  ///< axial strain, compression positive
     std::vector<double> stress;  ///< axial stress at the piston, Pa
     std::vector<double> lateral; ///< lateral stress, Pa (empty if not recorded)
+    std::vector<double> bottom;  ///< stress on the bottom plate, Pa (empty if not recorded)
     std::string source;
     std::string strainSource;    ///< "axial_strain" or "piston_position_m"
     std::size_t size() const { return t.size(); }
@@ -75,5 +76,19 @@ std::vector<double> smoothedRate(const std::vector<double>& t, const std::vector
 /// record), the median of the samples moving faster than that),
 /// load / reload (below the previous maximum strain) / unload otherwise; short pieces merged.
 std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::vector<double>& strain);
+/// The bottom plate's share of the piston stress on the first loading (the Load phases before the
+/// first unload): the least-squares line b = intercept + slope * s of the bottom stress b against the
+/// piston stress s over the samples at or above 30 % of that loading's largest piston stress. For a
+/// bed loaded from the top in a mould with wall friction (Janssen) the slope is exp(-4 mu_w K H/D)
+/// and the intercept the part of the bed's weight that reaches the bottom; without wall friction the
+/// slope is 1.
+struct Transmission {
+    double slope = -1;     ///< -1: no bottom channel, or fewer than 5 such samples
+    double intercept = 0;  ///< Pa
+    double se = -1;        ///< standard error of the slope, the residuals' lag-1 autocorrelation allowed for
+    int samples = 0;
+};
+Transmission loadingTransmission(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s,
+                                 const std::vector<double>& b);
 
 } // namespace pdpm::explain
