@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "Core/Error.h"
+#include "DemCases.h"
 #include "DemConfirmation.h"
 #include "Explain.h"
 #include "ExplainBench.h"
@@ -475,6 +476,26 @@ TEST(ExplainNuisances, DriftThatAbsorbedCohesionIsDroppedWithIt) {
     EXPECT_TRUE(early);
 }
 
+// DEM-made cases: a kind outside its family, a bottom sensor outside the wall_friction family and an
+// unknown family are refused before any DEM run.
+TEST(ExplainInput, DemCaseFamiliesAreChecked) {
+    const pdpm::testing::TempDir tmp;
+    Json model;
+    DemCaseSpec s;
+    s.driver = tmp.str() + "/no-driver";  // never reached
+    s.kind = "wall_friction";
+    s.family = "contact_relaxation";
+    EXPECT_THROW(generateDemCase(s, tmp.str() + "/w", model), InputError);
+    s.kind = "null";
+    s.family = "plasticity";
+    EXPECT_THROW(generateDemCase(s, tmp.str() + "/w", model), InputError);
+    s.family = "";
+    s.bottomSensor = true;  // a null case's family defaults to contact_relaxation
+    EXPECT_THROW(generateDemCase(s, tmp.str() + "/w", model), InputError);
+    EXPECT_THROW(demCaseBenchmark(1, {5}, 200, 1, tmp.str() + "/b", "", {"cohesion"}), InputError);
+    EXPECT_FALSE(std::filesystem::exists(tmp.str() + "/w")) << "nothing is made for a refused case";
+}
+
 TEST(ExplainInput, BadInputsAreInputErrors) {
     const pdpm::testing::TempDir tmp;  // removed when the test ends
     const std::string d = tmp.str();
@@ -647,6 +668,18 @@ awk -v k="$v_)" + knob + R"(" -v sc="$v_stress_scale" 'function row(e, s) {
     std::filesystem::permissions(path, std::filesystem::perms::owner_all);
 }
 
+/// confirmWithDem (fast mode) against a fresh stand-in driver DIR/NAME.sh (writeStandInDriver's
+/// arguments), its runs in DIR/NAME.
+DemResult confirmWithStandIn(const std::string& dir, const std::string& name, const ExplainResult& r, const Recording& rec,
+                             const std::string& knob, const std::string& lam, double E, double em,
+                             const std::vector<std::string>& logged, const std::string& bottom = "") {
+    writeStandInDriver(dir + "/" + name + ".sh", knob, lam, E, em, logged, bottom);
+    DemOptions opt;
+    opt.driver = dir + "/" + name + ".sh";
+    std::filesystem::create_directories(dir + "/" + name);
+    return confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/" + name);
+}
+
 // The plasticity DEM confirmation against a stand-in driver (a shell script) whose "DEM" record is
 // the linear elastic-plastic curve with the bulk unloading ratio 1 + 0.8 (k/k1 - 1), at another
 // stiffness and stress scale than the lab record: the branches are compared in units of their start
@@ -703,11 +736,7 @@ TEST(ExplainCommand, DemConfirmationPlasticityCalibratesTheUnloadRatio) {
     // a bulk ratio that is not linear in k/k1 (1 + 0.8 (k/k1 - 1)^0.7): run b misses the lab ratio by
     // more than 10 % of its excess, so a fourth run from the secant through a and b is made and chosen
     {
-        writeStandInDriver(dir + "/driver2.sh", "k_over_k1", "1 + 0.8 * (k - 1) ^ 0.7", 1e6, 0.02, {"k_over_k1", "stress_scale"});
-        DemOptions opt2 = opt;
-        opt2.driver = dir + "/driver2.sh";
-        std::filesystem::create_directories(dir + "/dem3");
-        const DemResult d2 = confirmWithDem(r, rec, dir + "/p.json", opt2, dir + "/dem3");
+        const DemResult d2 = confirmWithStandIn(dir, "dem3", r, rec, "k_over_k1", "1 + 0.8 * (k - 1) ^ 0.7", 1e6, 0.02, {"k_over_k1", "stress_scale"});
         ASSERT_EQ(d2.status, "done") << d2.reason;
         ASSERT_EQ(d2.runs.size(), 4u);
         EXPECT_EQ(d2.runs[3].name, "dem_plastic_c");
@@ -886,11 +915,7 @@ TEST(ExplainCommand, DemConfirmationWallFrictionCalibratesMuWOnTheBottomSensor) 
 
     // ln T not linear in mu_w: a third run from the secant through the first two, the closest chosen
     {
-        writeStandInDriver(dir + "/driver2.sh", "wall_friction", "1 + 3 * k", 2e6, 0.03, logged, "1.02 * exp(-1.5 * k ^ 0.7)");
-        DemOptions opt2 = opt;
-        opt2.driver = dir + "/driver2.sh";
-        std::filesystem::create_directories(dir + "/dem2");
-        const DemResult d2 = confirmWithDem(r, rec, dir + "/p.json", opt2, dir + "/dem2");
+        const DemResult d2 = confirmWithStandIn(dir, "dem2", r, rec, "wall_friction", "1 + 3 * k", 2e6, 0.03, logged, "1.02 * exp(-1.5 * k ^ 0.7)");
         ASSERT_EQ(d2.status, "done") << d2.reason;
         ASSERT_EQ(d2.runs.size(), 4u);
         EXPECT_EQ(d2.runs[3].name, "dem_wall_c");

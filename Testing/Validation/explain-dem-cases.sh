@@ -4,24 +4,33 @@
 # relaxation on (peak SNR 3 and 5) or off (nulls), explained with the bed's own behaviour
 # (stiffness_nonlinearity, plasticity, loading_curve) in the baseline and scored against the sealed truth.
 # PDPM_DEM_CASES (default 4) cases per SNR and as many nulls; about a minute of DEM per run, two
-# runs per positive case. Writes summary.md; with --update-doc replaces the measured section of
-# Documentation/tools-explain.md. Fails only when a run fails (the figures are reported, not gated).
+# runs per positive case. PDPM_DEM_FAMILY=wall_friction makes the wall-friction family instead (a
+# 30 mm mould with elastic contacts, every second pair with a bottom stress sensor; two to four
+# minutes of DEM per run). Writes summary.md; with --update-doc replaces the family's measured
+# section of Documentation/tools-explain.md. Fails only when a run fails (the figures are reported,
+# not gated).
 source "$(dirname "$0")/explain-common.sh"
 N="${PDPM_DEM_CASES:-4}"
-"$BIN/pdpm-explain-bench" --output "$OUT/dem-cases" --reps 0 --nulls 0 --forced 0 --extras 0 --dem_cases "$N" --dem_snr 3,5 \
-  --samples 2000 > "$OUT/dem-cases.log"
-python3 - "$OUT/dem-cases/summary.md" <<'PY'
+FAMILY="${PDPM_DEM_FAMILY:-contact_relaxation}"
+case "$FAMILY" in
+  contact_relaxation) MARK=dem-cases; DIR=dem-cases ;;
+  wall_friction) MARK=dem-wall-cases; DIR=dem-wall-cases ;;
+  *) echo "PDPM_DEM_FAMILY must be contact_relaxation or wall_friction" >&2; exit 2 ;;
+esac
+"$BIN/pdpm-explain-bench" --output "$OUT/$DIR" --reps 0 --nulls 0 --forced 0 --extras 0 --dem_cases "$N" --dem_snr 3,5 \
+  --dem_families "$FAMILY" --samples 2000 > "$OUT/$DIR.log"
+python3 - "$OUT/$DIR/summary.md" <<'PY'
 import sys
 s = open(sys.argv[1]).read()
 print(s[s.index('## DEM-made cases'):])
 PY
 if [ "${3:-}" = "--update-doc" ]; then
   DOC="$HERE/../../Documentation/tools-explain.md"
-  python3 - "$DOC" "$OUT/dem-cases/summary.md" <<'PY'
+  python3 - "$DOC" "$OUT/$DIR/summary.md" "$MARK" <<'PY'
 import sys
-doc, summ = open(sys.argv[1]).read(), open(sys.argv[2]).read()
+doc, summ, mark = open(sys.argv[1]).read(), open(sys.argv[2]).read(), sys.argv[3]
 summ = summ[summ.index('## DEM-made cases') + len('## DEM-made cases\n\n'):]
-a, b = doc.index('<!-- dem-cases:begin -->'), doc.index('<!-- dem-cases:end -->')
-open(sys.argv[1], 'w').write(doc[:a] + '<!-- dem-cases:begin -->\n' + summ + doc[b:])
+a, b = doc.index(f'<!-- {mark}:begin -->'), doc.index(f'<!-- {mark}:end -->')
+open(sys.argv[1], 'w').write(doc[:a] + f'<!-- {mark}:begin -->\n' + summ + doc[b:])
 PY
 fi

@@ -15,6 +15,15 @@
 // relaxes a little without contact relaxation (rearrangements, damping): its macroscopic C is
 // stored as `intrinsic_macroscopic_C` in both truths.
 //
+// Wall friction (family wall_friction): the same protocol in a mould 30 mm across and 30 mm high
+// (12 mean diameters, H/D 1; the bed poured with frictionless walls, so both runs compress the same
+// bed), elastic contacts, no relaxation; "with" has wall friction mu_w in [0.15, 0.45], "without"
+// none. The truth's primary value is Janssen's mu_w K of the noise-free "with" record,
+// -ln(T)/(4 H/D) from its bottom/piston transmission T on first loading (the quantity the surrogate's
+// muK stands for; mu_w itself is stored too). With bottomSensor the record shown also carries the
+// bottom stress with its own offset, AR(1) noise of the same sd and quantisation. MODEL.json:
+// stiffness_nonlinearity and a free loading curve (the elastic bed's own first loading).
+//
 // Positive: contact C in [0.02, 0.08], t0 in [0.1, 2] s. The truth's primary value is the contact C;
 // `primary_value_identifiable` is the macroscopic C of the noise-free "with" record (the mean Eq. 4.3
 // fit of its holds, which the bed's rearrangements make smaller than the contact C). Windows: the
@@ -29,24 +38,29 @@
 namespace pdpm::explain {
 
 struct DemCaseSpec {
-    std::string kind = "null";  ///< null | contact_relaxation
+    std::string kind = "null";  ///< null | contact_relaxation | wall_friction
     double snr = 3, rho = 0.5;
     unsigned long seed = 1;
     int samples = 2000;
     std::string driver;      ///< OedometerRelaxation executable (empty: next to this program)
     std::string driverArgs;  ///< appended to every driver command (e.g. a smaller bed for tests)
     int threads = 1;
+    /// the mechanism of the pair (a null case is the twin without it): contact_relaxation or
+    /// wall_friction; empty: the kind (contact_relaxation for a null)
+    std::string family = "";
+    bool bottomSensor = false;  ///< wall_friction family: the record also has a noisy bottom_stress_Pa
 };
 
 /// Runs the DEM (its files go to workDir) and returns the case; `model` receives the case's MODEL.json.
 GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDir, Json& model);
 
-/// The DEM-made part of the blind benchmark: `perSnr` contact_relaxation cases at each SNR, each with
-/// its null twin (AR(1) rho cycled over 0, 0.5, 0.9), generated (out/dem_runs), explained with
-/// each case's MODEL.json (out/cases, out/reports; the explainer sees only the case folder) and
-/// scored against the sealed truth (out/truth). Pairs run in parallel, one DEM thread each.
-/// Returns a markdown section.
+/// The DEM-made part of the blind benchmark: for each family (contact_relaxation, wall_friction),
+/// `perSnr` positive cases at each SNR, each with its null twin (AR(1) rho cycled over 0, 0.5, 0.9;
+/// wall_friction: every second pair with a bottom stress sensor), generated (out/dem_runs),
+/// explained with each case's MODEL.json (out/cases, out/reports; the explainer sees only the case
+/// folder) and scored against the sealed truth (out/truth). Pairs run in parallel, one DEM thread
+/// each. Returns a markdown section.
 std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int samples, unsigned long seed, const std::string& out,
-                             const std::string& driverArgs);
+                             const std::string& driverArgs, const std::vector<std::string>& families = {"contact_relaxation"});
 
 } // namespace pdpm::explain

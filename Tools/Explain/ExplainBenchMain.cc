@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
         tools::Cli cli("pdpm-explain-bench", "blind benchmark of pdpm-explain: generate, explain, score");
         std::string out, snrText, mechText;
         int reps = 5, nulls = 40, samples = 2000, seed = 1, forced = 10, extras = 5, pairs = 0;
-        std::string pairSnrText, demSnrText, demDriverArgs;
+        std::string pairSnrText, demSnrText, demDriverArgs, demFamiliesText;
         int demCases = 0;
         bool calibrated = false;
         cli.add("output", &out, "", "output directory");
@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
         cli.add("mechanisms", &mechText,
                 "contact_relaxation,plasticity,cohesion,wall_friction,rate_dependence,stiffness_nonlinearity",
                 "mechanisms of the positive cases");
-        cli.add("dem_cases", &demCases, 0, "DEM-made cases: contact_relaxation cases per SNR of --dem_snr and as many null cases (0: skip; each runs the OedometerRelaxation driver, about a minute per run)", 0, 100000);
+        cli.add("dem_cases", &demCases, 0, "DEM-made cases: positive cases per family of --dem_families and SNR of --dem_snr, each with its null twin (0: skip; each runs the OedometerRelaxation driver, about a minute per run)", 0, 100000);
+        cli.add("dem_families", &demFamiliesText, "contact_relaxation", "mechanisms of the DEM-made cases: contact_relaxation, wall_friction (comma separated)");
         cli.add("dem_snr", &demSnrText, "3,5", "peak SNR values of the DEM-made positive cases");
         cli.add("dem_driver_args", &demDriverArgs, "", "extra OedometerRelaxation arguments of the DEM-made cases (e.g. '--width 4 --fill_height 5')");
         cli.add("calibrated_compliance", &calibrated, false,
@@ -239,7 +240,15 @@ int main(int argc, char** argv) {
             md << "\n" << (calibrated ? "(The pairs below are blind: --calibrated_compliance applies to the single cases only.)\n" : "")
                << pairBenchmark(pairs, mechs, pairSnrs, samples,
                                         (unsigned long)seed);
-        if (demCases > 0) md << "\n" << demCaseBenchmark(demCases, demSnrs, samples, (unsigned long)seed, out, demDriverArgs);
+        if (demCases > 0) {
+            std::vector<std::string> families;
+            std::string f = demFamiliesText;
+            for (char& c : f)
+                if (c == ',') c = ' ';
+            std::istringstream is(f);
+            for (std::string w; is >> w;) families.push_back(w);
+            md << "\n" << demCaseBenchmark(demCases, demSnrs, samples, (unsigned long)seed, out, demDriverArgs, families);
+        }
         writeWholeFile(out + "/summary.md", md.str());
         std::ostringstream pc;
         pc << "snr,detected,cases\n";

@@ -1,6 +1,7 @@
 // pdpm-explain-data: inputs for pdpm-explain in the recording format.
 //   generate     --kind K --snr S --rho R --seed N --samples M [--material_seed K] --output CASE_DIR --truth TRUTH.json
-//   dem-case     --kind null|contact_relaxation --snr S --rho R --seed N --output CASE_DIR --truth TRUTH.json
+//   dem-case     --kind null|contact_relaxation|wall_friction [--family F] [--bottom_sensor 1] --snr S --rho R
+//                --seed N --output CASE_DIR --truth TRUTH.json
 //                a case made by the OedometerRelaxation DEM (Tools/Explain/DemCases.h); CASE_DIR/model.json
 //                holds the baseline the explainer must be given
 //   thesis       --material cocoa|limestone [--device lambdameter|ft4] --output DIR [--seed N]
@@ -212,7 +213,8 @@ int main(int argc, char** argv) {
         std::string output, input, truth, kind, material, device, dataDir;
         double snr = 3, rho = 0.5;
         int seed = 1, samples = 3000, materialSeed = 0, threads = 1;
-        std::string driver, driverArgs, work;
+        std::string driver, driverArgs, work, family;
+        bool bottomSensor = false;
         cli.add("output", &output, "", "output directory");
         if (cmd == "generate") {
             cli.add("kind", &kind, "null", "null | MECHANISM | two:A+B | ool:bump | ool:sine");
@@ -226,7 +228,9 @@ int main(int argc, char** argv) {
                     "material seed are recordings of one material (device, protocol and noise from --seed)",
                     0, 2147483647);
         } else if (cmd == "dem-case") {
-            cli.add("kind", &kind, "null", "null | contact_relaxation", {"null", "contact_relaxation"});
+            cli.add("kind", &kind, "null", "null | contact_relaxation | wall_friction", {"null", "contact_relaxation", "wall_friction"});
+            cli.add("family", &family, "", "the pair's mechanism (a null case is its twin without it): contact_relaxation | wall_friction (default: the kind; contact_relaxation for null)");
+            cli.add("bottom_sensor", &bottomSensor, false, "wall_friction family: the record also carries a noisy bottom_stress_Pa");
             cli.add("snr", &snr, 3, "-", "peak effect (DEM with minus DEM without the mechanism) / noise sd", 0, 1e6, true, false);
             cli.add("rho", &rho, 0.5, "-", "AR(1) coefficient of the noise", 0, 0.99);
             cli.add("seed", &seed, 1, "seed (protocol, parameters, the DEM's bed, noise)", 0, 2147483647);
@@ -256,7 +260,7 @@ int main(int argc, char** argv) {
         }
         if (cmd == "dem-case") {
             if (truth.empty()) inputError("--truth is required");
-            DemCaseSpec s{kind, snr, rho, (unsigned long)seed, samples, driver, driverArgs, threads};
+            DemCaseSpec s{kind, snr, rho, (unsigned long)seed, samples, driver, driverArgs, threads, family, bottomSensor};
             Json model;
             const GeneratedCase g = generateDemCase(s, work.empty() ? truth + ".dem" : work, model);
             writeCase(g, output, truth);
