@@ -993,25 +993,21 @@ TEST(ExplainBottomSensor, DecidesBetweenWallFrictionAndItsLookAlike) {
         opt.figures = false;
         return pdpm::explain::explain(r, g.proto, opt);
     };
-    const ExplainResult none = explainWith(1.0);
-    EXPECT_EQ(none.bottom.says, "no_wall_loss");
-    EXPECT_EQ(none.verdict, "missing_physics") << none.summary;
-    ASSERT_FALSE(none.mechanisms.empty());
-    EXPECT_EQ(none.mechanisms.front().comp, kPlasticity);
-    bool ruledOut = false;
-    for (const Candidate& c : none.candidates)
-        ruledOut = ruledOut || (c.comp == kWallFriction && !c.testable && c.note.find("ruled out by the bottom stress sensor") != std::string::npos);
-    EXPECT_TRUE(ruledOut);
-
-    const ExplainResult lossy = explainWith(0.75);
-    EXPECT_EQ(lossy.bottom.says, "wall_friction_present");
-    EXPECT_EQ(lossy.verdict, "missing_physics") << lossy.summary;
-    ASSERT_FALSE(lossy.mechanisms.empty());
-    EXPECT_EQ(lossy.mechanisms.front().comp, kWallFriction);
-    bool preferred = false;
-    for (const Candidate& c : lossy.candidates)
-        preferred = preferred || (c.comp == kWallFriction && c.accepted && c.note.find("preferred by the bottom stress sensor") != std::string::npos);
-    EXPECT_TRUE(preferred) << "wall_friction was put first by the sensor, not by its own dBIC";
+    // the answer with a sensor whose transmission is T: its word, the first mechanism, and the note the
+    // sensor leaves on the wall_friction candidate
+    const auto expectWith = [&](double T, const char* says, int first, bool testable, const char* note) {
+        const ExplainResult r = explainWith(T);
+        EXPECT_EQ(r.bottom.says, says);
+        EXPECT_EQ(r.verdict, "missing_physics") << r.summary;
+        ASSERT_FALSE(r.mechanisms.empty()) << "T = " << T;
+        EXPECT_EQ(r.mechanisms.front().comp, first) << "T = " << T;
+        bool noted = false;
+        for (const Candidate& c : r.candidates)
+            noted = noted || (c.comp == kWallFriction && c.testable == testable && c.note.find(note) != std::string::npos);
+        EXPECT_TRUE(noted) << "T = " << T << ": wall_friction's note should say '" << note << "'";
+    };
+    expectWith(1.0, "no_wall_loss", kPlasticity, false, "ruled out by the bottom stress sensor");
+    expectWith(0.75, "wall_friction_present", kWallFriction, true, "accepted, preferred by the bottom stress sensor");
 }
 
 // ---- several recordings of one material -----------------------------------------------------------
