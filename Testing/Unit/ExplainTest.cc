@@ -876,7 +876,6 @@ TEST(ExplainCommand, DemConfirmationWallFrictionCalibratesMuWOnTheBottomSensor) 
     const pdpm::testing::TempDir tmp;
     const std::string dir = tmp.str();
     const std::vector<std::string> logged = {"wall_friction", "stress_scale"};
-    writeStandInDriver(dir + "/driver.sh", "wall_friction", "1 + 3 * k", 2e6, 0.03, logged, "1.02 * exp(-1.5 * k)");
     writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
  "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "flour"},
  "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 15000},
@@ -885,10 +884,10 @@ TEST(ExplainCommand, DemConfirmationWallFrictionCalibratesMuWOnTheBottomSensor) 
     Recording rec = labCycle(8e6, 0.004, 1.75);
     for (double s : rec.stress) rec.bottom.push_back(0.7 * s);
     const ExplainResult r = accepted(kWallFriction, pMuK, 0.01);  // the surrogate's muK plays no part here
-    DemOptions opt;
-    opt.driver = dir + "/driver.sh";
-    std::filesystem::create_directories(dir + "/dem");
-    const DemResult d = confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+    const auto standIn = [&](const std::string& name, const Recording& lab, const std::string& bottom) {
+        return confirmWithStandIn(dir, name, r, lab, "wall_friction", "1 + 3 * k", 2e6, 0.03, logged, bottom);
+    };
+    const DemResult d = standIn("dem", rec, "1.02 * exp(-1.5 * k)");
     ASSERT_EQ(d.status, "done") << d.reason;
     EXPECT_EQ(d.calibration, "bottom_over_piston_secant");
     EXPECT_NEAR(d.labTransmission, 0.7, 1e-9);
@@ -915,7 +914,7 @@ TEST(ExplainCommand, DemConfirmationWallFrictionCalibratesMuWOnTheBottomSensor) 
 
     // ln T not linear in mu_w: a third run from the secant through the first two, the closest chosen
     {
-        const DemResult d2 = confirmWithStandIn(dir, "dem2", r, rec, "wall_friction", "1 + 3 * k", 2e6, 0.03, logged, "1.02 * exp(-1.5 * k ^ 0.7)");
+        const DemResult d2 = standIn("dem2", rec, "1.02 * exp(-1.5 * k ^ 0.7)");
         ASSERT_EQ(d2.status, "done") << d2.reason;
         ASSERT_EQ(d2.runs.size(), 4u);
         EXPECT_EQ(d2.runs[3].name, "dem_wall_c");
@@ -932,8 +931,7 @@ TEST(ExplainCommand, DemConfirmationWallFrictionCalibratesMuWOnTheBottomSensor) 
     {
         Recording flat = rec;
         for (std::size_t i = 0; i < flat.stress.size(); ++i) flat.bottom[i] = 1.03 * flat.stress[i];
-        std::filesystem::create_directories(dir + "/dem3");
-        const DemResult c = confirmWithDem(r, flat, dir + "/p.json", opt, dir + "/dem3");
+        const DemResult c = standIn("dem3", flat, "1.02 * exp(-1.5 * k)");
         EXPECT_EQ(c.status, "contradicted") << c.reason;
         EXPECT_EQ(c.runs.size(), 1u) << "only the frictionless run";
         EXPECT_NE(c.reason.find("bottom sensor shows no stress lost to the walls"), std::string::npos) << c.reason;
