@@ -61,6 +61,18 @@ int main(int argc, char** argv) {
         const auto snrs = tools::parseNumberList("snr", snrText);
         const auto pairSnrs = tools::parseNumberList("pair_snr", pairSnrText);  // checked before the long run
         const auto demSnrs = tools::parseNumberList("dem_snr", demSnrText);
+        std::vector<std::string> demFamilies;  // checked here, before the long run
+        {
+            std::string f = demFamiliesText;
+            for (char& c : f)
+                if (c == ',') c = ' ';
+            std::istringstream is(f);
+            for (std::string w; is >> w;) {
+                if (w != "contact_relaxation" && w != "wall_friction")
+                    inputError("--dem_families: unknown family '" + w + "' (contact_relaxation, wall_friction)");
+                demFamilies.push_back(w);
+            }
+        }
         std::vector<std::string> mechs;
         {
             std::string m = mechText;
@@ -240,15 +252,7 @@ int main(int argc, char** argv) {
             md << "\n" << (calibrated ? "(The pairs below are blind: --calibrated_compliance applies to the single cases only.)\n" : "")
                << pairBenchmark(pairs, mechs, pairSnrs, samples,
                                         (unsigned long)seed);
-        if (demCases > 0) {
-            std::vector<std::string> families;
-            std::string f = demFamiliesText;
-            for (char& c : f)
-                if (c == ',') c = ' ';
-            std::istringstream is(f);
-            for (std::string w; is >> w;) families.push_back(w);
-            md << "\n" << demCaseBenchmark(demCases, demSnrs, samples, (unsigned long)seed, out, demDriverArgs, families);
-        }
+        if (demCases > 0) md << "\n" << demCaseBenchmark(demCases, demSnrs, samples, (unsigned long)seed, out, demDriverArgs, demFamilies);
         writeWholeFile(out + "/summary.md", md.str());
         std::ostringstream pc;
         pc << "snr,detected,cases\n";
