@@ -1051,6 +1051,76 @@ TEST(ExplainSeveral, AMechanismTheOtherRecordingContradictsIsNotTransferable) {
     EXPECT_LT(r.transfers[0].gain(), 0.0);
 }
 
+TEST(ExplainJoint, ChiSquareUpperTailMatchesClosedForms) {
+    for (double x : {0.01, 0.5, 1.0, 3.84, 9.0, 25.0, 80.0}) {
+        EXPECT_NEAR(chiSquareUpperTail(x, 1), 2 * normalUpperTail(std::sqrt(x)), 1e-10 + 1e-9 * normalUpperTail(std::sqrt(x))) << x;
+        EXPECT_NEAR(chiSquareUpperTail(x, 2), std::exp(-x / 2), 1e-12 + 1e-9 * std::exp(-x / 2)) << x;
+        EXPECT_NEAR(chiSquareUpperTail(x, 4), std::exp(-x / 2) * (1 + x / 2), 1e-12 + 1e-9 * std::exp(-x / 2)) << x;
+        const double q3 = std::erfc(std::sqrt(x / 2)) + std::sqrt(2 * x / M_PI) * std::exp(-x / 2);
+        EXPECT_NEAR(chiSquareUpperTail(x, 3), q3, 1e-12 + 1e-9 * q3) << x;
+    }
+    EXPECT_NEAR(chiSquareUpperTail(3.841459, 1), 0.05, 1e-6);
+    EXPECT_NEAR(chiSquareUpperTail(9.210340, 2), 0.01, 1e-6);
+    EXPECT_EQ(chiSquareUpperTail(0, 3), 1.0);
+}
+
+// One material, two recordings: the joint fit shares the material parameters (C, t0) and refits
+// each recording's device; its interval holds the generator's C and is narrower than either
+// recording's own, and the likelihood ratio against separate values finds nothing to separate them.
+// A recording without relaxation joined to one with it: the recordings need different values.
+TEST(ExplainSeveral, JointFitSharesTheMaterialParametersAndTestsTheirConsistency) {
+    const CaseSpec a{"contact_relaxation", 5, 0.5, 31, 1500, 7}, b{"contact_relaxation", 5, 0.5, 32, 1500, 7};
+    const double trueC = generateCase(a).truth.at("parameters").at("C").asNumber();
+    ASSERT_EQ(trueC, generateCase(b).truth.at("parameters").at("C").asNumber());  // one material
+    const SeveralResult r = runPair(a, b);
+    ASSERT_EQ(r.joint.size(), 1u) << r.summary;
+    const JointFit& J = r.joint[0];
+    EXPECT_EQ(J.comp, kRelaxation);
+    EXPECT_EQ(J.recordings, (std::vector<std::size_t>{0, 1}));
+    ASSERT_EQ(J.joint.params.front(), pRelaxC);
+    ASSERT_EQ(J.intervalMethod, "profile_curvature");
+    EXPECT_LE(J.joint.lo[0], trueC);
+    EXPECT_GE(J.joint.hi[0], trueC);
+    for (const ExplainResult& own : r.per) {
+        ASSERT_FALSE(own.mechanisms.empty());
+        const MechanismResult& m = own.mechanisms[0];
+        ASSERT_EQ(m.comp, kRelaxation);
+        EXPECT_LT(J.joint.hi[0] - J.joint.lo[0], m.hi[0] - m.lo[0]);
+    }
+    EXPECT_GE(J.m2lnLJoint, J.m2lnLSeparate - 1e-6);  // the separate fits start at the joint optimum
+    EXPECT_EQ(J.dof, 2);
+    EXPECT_TRUE(J.consistent) << "likelihood ratio " << J.statistic << ", p " << J.pValue;
+
+    const SeveralResult c = runPair(a, {"null", 0, 0.5, 12, 1500});
+    ASSERT_EQ(c.joint.size(), 1u) << c.summary;
+    EXPECT_FALSE(c.joint[0].consistent);
+    EXPECT_LT(c.joint[0].pValue, 1e-6) << "likelihood ratio " << c.joint[0].statistic;
+}
+
+// One material parameter (tau_v) whose internal scale differs between the recordings (it follows each
+// recording's rates): the likelihood-ratio interval holds the generator's value, the joint value lies
+// between the recordings' separate values (it was once outside both, when each recording read the
+// shared internal coordinate on its own scale), and the two recordings are consistent.
+TEST(ExplainSeveral, JointFitOfOneParameterUsesTheLikelihoodRatioInterval) {
+    const CaseSpec a{"rate_dependence", 5, 0.5, 41, 2000, 9}, b{"rate_dependence", 5, 0.5, 42, 2000, 9};
+    const double trueTau = generateCase(a).truth.at("parameters").at("tau_v").asNumber();
+    const SeveralResult r = runPair(a, b);
+    ASSERT_EQ(r.joint.size(), 1u) << r.summary;
+    const JointFit& J = r.joint[0];
+    ASSERT_EQ(J.comp, kRate);
+    EXPECT_EQ(J.intervalMethod, "profile_likelihood_ratio");
+    EXPECT_LE(J.joint.lo[0], trueTau);
+    EXPECT_GE(J.joint.hi[0], trueTau);
+    EXPECT_LT(J.joint.lo[0], J.joint.value[0]);
+    EXPECT_GT(J.joint.hi[0], J.joint.value[0]);
+    ASSERT_EQ(J.separate.size(), 2u);
+    EXPECT_GE(J.joint.value[0], std::min(J.separate[0][0], J.separate[1][0]));
+    EXPECT_LE(J.joint.value[0], std::max(J.separate[0][0], J.separate[1][0]));
+    EXPECT_GE(J.m2lnLJoint, J.m2lnLSeparate - 1e-6);
+    EXPECT_EQ(J.dof, 1);
+    EXPECT_TRUE(J.consistent) << "likelihood ratio " << J.statistic;
+}
+
 TEST(ExplainSeveral, CommandWritesTheJointReportAndEachRecordingsOwn) {
     const pdpm::testing::TempDir tmp;
     const std::string d = tmp.str();
@@ -1065,7 +1135,11 @@ TEST(ExplainSeveral, CommandWritesTheJointReportAndEachRecordingsOwn) {
     EXPECT_EQ(rep.at("recordings").size(), 2u);
     EXPECT_EQ(rep.at("heldout_recordings").size(), 2u);
     EXPECT_EQ(rep.at("mechanisms").asArray().at(0).at("heldout_recording_status").asString(), "confirmed");
-    for (const char* key : {"windows", "fit", "dem_confirmation"}) EXPECT_TRUE(rep.has(key)) << key;
+    for (const char* key : {"windows", "fit", "dem_confirmation", "joint_material_parameters"}) EXPECT_TRUE(rep.has(key)) << key;
+    const Json& jf = rep.at("joint_material_parameters").asArray().at(0);
+    EXPECT_EQ(jf.at("mechanism").asString(), "contact_relaxation");
+    EXPECT_EQ(jf.at("consistency").at("says").asString(), "consistent");
+    EXPECT_EQ(jf.at("parameters").at("C").at("ci95").size(), 2u);
     EXPECT_TRUE(std::filesystem::exists(d + "/o/recording_1/report.json"));
     EXPECT_TRUE(std::filesystem::exists(d + "/o/recording_2/report.json"));
     // three recordings with two protocols cannot be paired

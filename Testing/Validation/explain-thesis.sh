@@ -52,6 +52,12 @@ for m in r['mechanisms']:
     print(f"  {m['name']}: {m['heldout_recording_status']} ({vals})")
 for x in r['heldout_recordings']:
     print(f"  {'+'.join(x['mechanisms'])} from {x['calibrated_on']:.0f} on {x['heldout_recording']:.0f}: RMSE {x['heldout_rmse_baseline']:.1f} -> {x['heldout_rmse_augmented']:.1f} Pa ({-100 * x['gain']:+.1f} %)")
+for J in r.get('joint_material_parameters', []):
+    vals = ', '.join(f"{k} {v['value']:.4g} ({v['ci95'][0]:.4g} to {v['ci95'][1]:.4g})" for k, v in J['parameters'].items())
+    alone = '; '.join(f"rec {x['recording']:.0f}: " + ', '.join(f"{k} {v:.4g}" for k, v in x['parameters'].items()) for x in J['separate'])
+    c = J['consistency']
+    print(f"  joint {J['mechanism']}: {vals} [{J['intervals']}]; alone {alone}; likelihood ratio {c['likelihood_ratio']:.4g} "
+          f"({c['dof']:.0f} dof, p {c['p_value']:.2g}): {c['says']}")
 print(f"  thesis FT4 mean C {t['C_mean']:.4f}")
 ft4 = json.load(open(sys.argv[1].replace('report.json', 'recording_2/report.json')))
 per = []

@@ -61,27 +61,20 @@ int main(int argc, char** argv) {
         const auto snrs = tools::parseNumberList("snr", snrText);
         const auto pairSnrs = tools::parseNumberList("pair_snr", pairSnrText);  // checked before the long run
         const auto demSnrs = tools::parseNumberList("dem_snr", demSnrText);
-        std::vector<std::string> demFamilies;  // checked here, before the long run
-        {
-            std::string f = demFamiliesText;
-            for (char& c : f)
+        // comma- or space-separated words
+        const auto words = [](std::string text) {
+            for (char& c : text)
                 if (c == ',') c = ' ';
-            std::istringstream is(f);
-            for (std::string w; is >> w;) {
-                if (w != "contact_relaxation" && w != "wall_friction")
-                    inputError("--dem_families: unknown family '" + w + "' (contact_relaxation, wall_friction)");
-                demFamilies.push_back(w);
-            }
-        }
-        std::vector<std::string> mechs;
-        {
-            std::string m = mechText;
-            for (char& c : m)
-                if (c == ',') c = ' ';
-            std::istringstream is(m);
-            std::string w;
-            while (is >> w) mechs.push_back(w);
-        }
+            std::istringstream is(text);
+            std::vector<std::string> w;
+            for (std::string x; is >> x;) w.push_back(x);
+            return w;
+        };
+        const std::vector<std::string> demFamilies = words(demFamiliesText);  // checked here, before the long run
+        for (const std::string& w : demFamilies)
+            if (w != "contact_relaxation" && w != "wall_friction")
+                inputError("--dem_families: unknown family '" + w + "' (contact_relaxation, wall_friction)");
+        const std::vector<std::string> mechs = words(mechText);
         if (pairs > 0 && (mechs.empty() || pairSnrs.empty())) inputError("--pairs needs --mechanisms and --pair_snr");
         const double rhos[3] = {0.0, 0.5, 0.9};
         std::vector<Job> jobs;

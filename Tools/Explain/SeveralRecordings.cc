@@ -114,6 +114,19 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
                            : R.foundIn[u] >= 2     ? "recording_dependent"
                                                    : "not_transferable");
     }
+    // one set of material parameters for the recordings that inform each mechanism
+    for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
+        const int c = R.mechanisms[u];
+        std::vector<std::size_t> which;
+        for (std::size_t k = 0; k < recs.size(); ++k) {
+            bool informs = false;
+            for (const auto& m : R.per[k].mechanisms) informs = informs || m.comp == c;
+            for (const auto& T : R.transfers)
+                informs = informs || (T.to == k && T.acts && T.mechanisms.size() == 1 && T.mechanisms[0] == c);
+            if (informs) which.push_back(k);
+        }
+        if (which.size() >= 2) R.joint.push_back(fitJointly(c, which, recs, protos, R.per));
+    }
     // each recording's whole accepted set (when it has more than one mechanism)
     for (std::size_t a = 0; a < recs.size(); ++a) {
         std::vector<int> set;
@@ -264,6 +277,43 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         tr.push(o);
     }
     j.set("heldout_recordings", tr);
+    Json jf = Json::array();
+    for (const JointFit& J : R.joint) {
+        Json o = Json::object();
+        o.set("mechanism", compName(J.comp));
+        Json used = Json::array();
+        for (std::size_t k : J.recordings) used.push(Json(double(k + 1)));
+        o.set("recordings", used);
+        o.set("parameters", parametersJson(J.joint, defs));
+        Json sep = Json::array();
+        for (std::size_t q = 0; q < J.recordings.size(); ++q) {
+            Json so = Json::object();
+            so.set("recording", double(J.recordings[q] + 1));
+            Json ps = Json::object();
+            for (std::size_t a = 0; a < J.joint.params.size(); ++a) ps.set(defs[J.joint.params[a]].name, J.separate[q][a]);
+            so.set("parameters", ps);
+            sep.push(so);
+        }
+        o.set("separate", sep);
+        Json cons = Json::object();
+        cons.set("likelihood_ratio", J.statistic);
+        cons.set("dof", double(J.dof));
+        cons.set("p_value", J.pValue);
+        cons.set("level", kJointConsistencyLevel);
+        cons.set("says", J.consistent ? "consistent" : "inconsistent");
+        o.set("consistency", cons);
+        o.set("profile_evaluations", double(J.evaluations));
+        o.set("intervals", J.intervalMethod);
+        jf.push(o);
+    }
+    j.set("joint_material_parameters", jf);
+    j.set("joint_material_parameters_scheme",
+          "profile likelihood over all recordings that accepted the mechanism or on which its transfer acts: the "
+          "material parameters shared, each recording's device parameters (E, eps0, nuisances, loading curve, its other "
+          "mechanisms) refitted at every trial value; 95 % intervals: likelihood-ratio scan of the profile for one "
+          "material parameter, the profile's curvature for two (see intervals); consistency: "
+          "likelihood ratio against each recording with its own material parameters, chi-square with "
+          "(recordings - 1) x (parameters) degrees of freedom");
     j.set("heldout_recording_scheme",
           "the held-out recording is fitted with its device parameters free (E, eps0, its nuisances) and the "
           "mechanism's material parameters fixed at the values of the recording that found it");
@@ -337,6 +387,32 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
                     for (std::size_t q = 0; q < m.params.size(); ++q)
                         md << " " << defs[m.params[q]].name << " = " << num(m.value[q], 3) << " (recording " << k + 1 << ")";
         md << "\n";
+    }
+    if (!R.joint.empty()) {
+        md << "\n## One set of material parameters for all recordings?\n\n"
+           << "A mechanism's parameters belong to the material; stiffness, zero strain, compliance and drift belong "
+           << "to the device. Each mechanism below is fitted to the recordings it acts on together (the material "
+           << "parameters shared, every recording's device parameters refitted), and once more with each recording "
+           << "keeping its own material parameters. The likelihood ratio of the two tells whether one set explains "
+           << "them all (p >= " << num(kJointConsistencyLevel, 2) << ") or the effective parameter differs between "
+           << "devices, geometries or rates.\n\n"
+           << "| mechanism | recordings | joint value (95 %) | each recording alone | likelihood ratio (dof) | p | says |\n"
+           << "|---|---|---|---|---|---|---|\n";
+        for (const JointFit& J : R.joint) {
+            std::string used, joint, alone;
+            for (std::size_t q = 0; q < J.recordings.size(); ++q) used += (q ? ", " : "") + std::to_string(J.recordings[q] + 1);
+            for (std::size_t a = 0; a < J.joint.params.size(); ++a)
+                joint += std::string(a ? "; " : "") + defs[J.joint.params[a]].name + " = " + num(J.joint.value[a], 3) + " (" +
+                         (J.intervalMethod != "not_determined" ? num(J.joint.lo[a], 3) + " to " + num(J.joint.hi[a], 3) : std::string("interval not determined")) + ")";
+            for (std::size_t q = 0; q < J.recordings.size(); ++q) {
+                alone += std::string(q ? "; " : "") + std::to_string(J.recordings[q] + 1) + ":";
+                for (std::size_t a = 0; a < J.joint.params.size(); ++a)
+                    alone += std::string(a ? "," : "") + " " + defs[J.joint.params[a]].name + " = " + num(J.separate[q][a], 3);
+            }
+            md << "| " << compName(J.comp) << " | " << used << " | " << joint << " | " << alone << " | "
+               << num(J.statistic, 3) << " (" << J.dof << ") | " << num(J.pValue, 2) << " | "
+               << (J.consistent ? "one set explains all" : "the recordings need different values") << " |\n";
+        }
     }
     writeWholeFile(dir + "/report.md", md.str());
 }

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "Explain.h"
+#include "JointFit.h"
 
 namespace pdpm::explain {
 
@@ -47,6 +48,9 @@ struct SeveralResult {
     /// "not_transferable" (see the file comment)
     std::vector<std::string> status;
     std::vector<Transfer> transfers;      ///< single mechanisms, then each recording's full accepted set
+    /// one set of material parameters for every recording that informs a mechanism (JointFit.h): per
+    /// mechanism found, when it was accepted in, or its transfer acts on, at least two recordings
+    std::vector<JointFit> joint;
     std::string verdict, summary;
 };
 
