@@ -41,12 +41,17 @@ double macroscopicC(const std::string& protocolPath) {
 
 } // namespace
 
+void checkDemCaseFamily(const std::string& f, const std::string& what) {
+    if (std::find(kDemCaseFamilies.begin(), kDemCaseFamilies.end(), f) != kDemCaseFamilies.end()) return;
+    std::string known;
+    for (const std::string& k : kDemCaseFamilies) known += (known.empty() ? "" : ", ") + k;
+    inputError(what + ": unknown family '" + f + "' (" + known + ")");
+}
+
 GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDir, Json& model) {
-    if (spec.kind != "null" && spec.kind != "contact_relaxation" && spec.kind != "wall_friction")
-        inputError("dem-case: --kind must be null, contact_relaxation or wall_friction, got '" + spec.kind + "'");
-    const std::string family = !spec.family.empty() ? spec.family : spec.kind == "null" ? "contact_relaxation" : spec.kind;
-    if (family != "contact_relaxation" && family != "wall_friction")
-        inputError("dem-case: --family must be contact_relaxation or wall_friction, got '" + family + "'");
+    if (spec.kind != "null") checkDemCaseFamily(spec.kind, "dem-case: --kind (null or a family)");
+    const std::string family = !spec.family.empty() ? spec.family : spec.kind == "null" ? kDemCaseFamilies.front() : spec.kind;
+    checkDemCaseFamily(family, "dem-case: --family");
     if (spec.kind != "null" && spec.kind != family)
         inputError("dem-case: a " + spec.kind + " case cannot belong to the " + family + " family");
     const bool wall = family == "wall_friction";
@@ -239,9 +244,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
         DemCaseSpec spec;
         std::string name, work;  ///< work: DEM run folder (shared by a case and its null twin)
     };
-    for (const std::string& f : families)
-        if (f != "contact_relaxation" && f != "wall_friction")
-            inputError("DEM-made cases: unknown family '" + f + "' (contact_relaxation, wall_friction)");
+    for (const std::string& f : families) checkDemCaseFamily(f, "DEM-made cases");
     const double rhos[3] = {0.0, 0.5, 0.9};
     std::vector<Job> jobs;
     for (const std::string& family : families) {

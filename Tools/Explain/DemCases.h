@@ -54,6 +54,11 @@ struct DemCaseSpec {
 /// Runs the DEM (its files go to workDir) and returns the case; `model` receives the case's MODEL.json.
 GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDir, Json& model);
 
+/// The families of DEM-made cases: the mechanism a positive case of the family carries.
+inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction"};
+/// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction)" unless `f` is a family.
+void checkDemCaseFamily(const std::string& f, const std::string& what);
+
 /// The DEM-made part of the blind benchmark: for each family (contact_relaxation, wall_friction),
 /// `perSnr` positive cases at each SNR, each with its null twin (AR(1) rho cycled over 0, 0.5, 0.9;
 /// wall_friction: every second pair with a bottom stress sensor), generated (out/dem_runs),

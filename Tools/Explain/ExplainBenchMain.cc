@@ -71,9 +71,7 @@ int main(int argc, char** argv) {
             return w;
         };
         const std::vector<std::string> demFamilies = words(demFamiliesText);  // checked here, before the long run
-        for (const std::string& w : demFamilies)
-            if (w != "contact_relaxation" && w != "wall_friction")
-                inputError("--dem_families: unknown family '" + w + "' (contact_relaxation, wall_friction)");
+        for (const std::string& w : demFamilies) checkDemCaseFamily(w, "--dem_families");
         const std::vector<std::string> mechs = words(mechText);
         if (pairs > 0 && (mechs.empty() || pairSnrs.empty())) inputError("--pairs needs --mechanisms and --pair_snr");
         const double rhos[3] = {0.0, 0.5, 0.9};
