@@ -73,7 +73,7 @@ public:
             FitResult r;
             r.rss = -1;
             for (const std::vector<double>* from : {&pt.start, &pt.ownFinal}) {
-                if (from == &pt.ownFinal && !bothStarts) break;
+                if (from == &pt.ownFinal && (!bothStarts || pt.ownFinal == pt.start)) break;  // the same start gives the same fit
                 std::vector<double> p = *from;
                 setShared(u, p);
                 FitResult q = fitModel(pt.model, pt.rec->stress, pt.on, p, pt.device);
