@@ -1,5 +1,6 @@
 #include "Boundaries/BoxController.h"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -93,6 +94,8 @@ double BoxController::cosineLength(const AxisControl& c, double t) {
 void BoxController::step(PeriodicBox& box, ParticleData& P, double t, double dt, const Vec3& stress,
                          const std::vector<double>& density) {
     const Vec3 L = box.length();
+    Vec3 newLo = box.lo(), newHi = box.hi();
+    std::array<bool, 3> set{false, false, false}, remapAxis{false, false, false};
     for (int a = 0; a < 3; ++a) {
         AxisControl& c = axes_[a];
         double newLength = L[a];
@@ -117,9 +120,14 @@ void BoxController::step(PeriodicBox& box, ParticleData& P, double t, double dt,
         lastRate_[a] = std::log(newLength / L[a]) / dt;
         if (newLength != L[a]) {
             const double centre = 0.5 * (box.lo()[a] + box.hi()[a]);
-            box.setAxis(a, centre - 0.5 * newLength, centre + 0.5 * newLength, affine ? &P : nullptr);
+            newLo[a] = centre - 0.5 * newLength;
+            newHi[a] = centre + 0.5 * newLength;
+            set[a] = true;
+            remapAxis[a] = affine;
         }
     }
+    // every changed axis in one pass over the particles (each axis reads only its own bounds)
+    if (set[0] || set[1] || set[2]) box.setAxes(newLo, newHi, set, remapAxis, &P);
     if (swelling_ != 0) {
         const double s = std::exp(swelling_ * dt);
         for (std::size_t i = 0; i < P.size(); ++i) {

@@ -26,6 +26,11 @@ public:
     void setAxis(int axis, double newLo, double newHi, ParticleData* remap = nullptr);
     /// Scale every axis about the box centre by factors s (affine remap of particles if given).
     void scaleAboutCentre(const Vec3& s, ParticleData* remap = nullptr);
+    /// setAxis for every axis with set[a], in one (parallel) pass over the particles; positions are
+    /// remapped along the axes with remapAxis[a] when `remap` is given. Per component the same
+    /// arithmetic as setAxis, so the result does not depend on the number of threads.
+    void setAxes(const Vec3& newLo, const Vec3& newHi, const std::array<bool, 3>& set,
+                 const std::array<bool, 3>& remapAxis, ParticleData* remap);
 
     /// Replace a separation vector by its minimum image along periodic axes. Valid for separations
     /// shorter than 1.5 box lengths (particles are wrapped at every neighbour-list build).

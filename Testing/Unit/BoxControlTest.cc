@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "Boundaries/BoxController.h"
 #include "Boundaries/PeriodicBox.h"
@@ -216,4 +217,28 @@ TEST(BoxControl, SaveLoadRoundTripAndBadInput) {
     EXPECT_THROW(c.setStress(0, 1, 0, 1), InputError);
     EXPECT_THROW(c.setCosine(0, 1, 1, 0, 0), InputError);
     EXPECT_THROW(c.setStrainRate(3, 1), InputError);
+}
+
+// Scaling all three axes in one pass gives bitwise the positions of three one-axis steps to the
+// same bounds, and the bounds and length changes of the scaling.
+TEST(BoxControl, ScaleAboutCentreEqualsThreeAxisSteps) {
+    ParticleData a;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 5000; ++i) a.add({u(rng) * 2 - 0.3, u(rng) * 3, u(rng) * 0.5 + 1}, 0.01, 2000, 0);
+    ParticleData b = a;
+    PeriodicBox ba, bb;
+    ba.set({-0.3, 0, 1}, {1.7, 3, 1.5}, true, true, false);
+    bb = ba;
+    const Vec3 s{0.999, 1.0003, 0.97};
+    ba.scaleAboutCentre(s, &a);
+    for (int ax = 0; ax < 3; ++ax) bb.setAxis(ax, ba.lo()[ax], ba.hi()[ax], &b);
+    for (int ax = 0; ax < 3; ++ax) {
+        EXPECT_NEAR(ba.hi()[ax] - ba.lo()[ax], (bb.hi()[ax] - bb.lo()[ax]), 1e-15);
+        EXPECT_NEAR(0.5 * (ba.lo()[ax] + ba.hi()[ax]), ax == 0 ? 0.7 : ax == 1 ? 1.5 : 1.25, 1e-15);
+        EXPECT_EQ(ba.lengthChange(ax), bb.lengthChange(ax));
+    }
+    EXPECT_NEAR(ba.hi()[2] - ba.lo()[2], 0.5 * 0.97, 1e-15);
+    for (std::size_t i = 0; i < a.size(); ++i)
+        for (int ax = 0; ax < 3; ++ax) ASSERT_EQ(a.x[i][ax], b.x[i][ax]) << i;
 }

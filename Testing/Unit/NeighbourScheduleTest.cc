@@ -75,3 +75,30 @@ TEST(NeighbourSchedule, EverySlabOnceContiguousAndBalancedByPairs) {
         }
     }
 }
+
+// The boundary between two threads' runs is the slab boundary nearest to the equal share. Phase 1 of
+// the pbox deck's first list (six slabs): the first boundary at or above half the pairs would give
+// thread 0 four slabs (10233 of 15339 pairs, 67 %) and thread 1 two; the nearest gives 3 and 3.
+TEST(NeighbourSchedule, ThreadBoundaryIsTheNearestToAnEqualShare) {
+    NeighbourList nl;
+    nl.phases = {{1, 3, 5, 7, 9, 11}};
+    nl.phasePairs = {{0, 2482, 5110, 7518, 10233, 12660, 15339}};
+    EXPECT_EQ(nl.threadSlabs(0, 0, 2), std::make_pair(0, 3));
+    EXPECT_EQ(nl.threadSlabs(0, 1, 2), std::make_pair(3, 6));
+    // three threads: targets 5113 and 10226 -> boundaries after slabs 2 and 4
+    EXPECT_EQ(nl.threadSlabs(0, 0, 3), std::make_pair(0, 2));
+    EXPECT_EQ(nl.threadSlabs(0, 1, 3), std::make_pair(2, 4));
+    EXPECT_EQ(nl.threadSlabs(0, 2, 3), std::make_pair(4, 6));
+    // one heavy slab: the runs stay contiguous, ordered and may be empty
+    nl.phasePairs = {{0, 1, 2, 1000, 1001, 1002, 1003}};
+    for (int threads = 1; threads <= 8; ++threads) {
+        int prevEnd = 0;
+        for (int t = 0; t < threads; ++t) {
+            const auto [a, b] = nl.threadSlabs(0, t, threads);
+            EXPECT_EQ(a, prevEnd);
+            EXPECT_LE(a, b);
+            prevEnd = b;
+        }
+        EXPECT_EQ(prevEnd, 6);
+    }
+}
