@@ -227,11 +227,19 @@ TEST(BoxControl, ScaleAboutCentreEqualsThreeAxisSteps) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (int i = 0; i < 5000; ++i) a.add({u(rng) * 2 - 0.3, u(rng) * 3, u(rng) * 0.5 + 1}, 0.01, 2000, 0);
     ParticleData b = a;
+    const ParticleData before = a;
     PeriodicBox ba, bb;
     ba.set({-0.3, 0, 1}, {1.7, 3, 1.5}, true, true, false);
     bb = ba;
+    const Vec3 oldLo = ba.lo(), oldHi = ba.hi();
     const Vec3 s{0.999, 1.0003, 0.97};
     ba.scaleAboutCentre(s, &a);
+    // against the affine map written out independently (to round-off: the compiler may fuse differently)
+    for (std::size_t i = 0; i < a.size(); ++i)
+        for (int ax = 0; ax < 3; ++ax) {
+            const double c = 0.5 * (oldLo[ax] + oldHi[ax]);
+            ASSERT_NEAR(a.x[i][ax], c + (before.x[i][ax] - c) * s[ax], 1e-14) << i;
+        }
     for (int ax = 0; ax < 3; ++ax) bb.setAxis(ax, ba.lo()[ax], ba.hi()[ax], &b);
     for (int ax = 0; ax < 3; ++ax) {
         EXPECT_NEAR(ba.hi()[ax] - ba.lo()[ax], (bb.hi()[ax] - bb.lo()[ax]), 1e-15);

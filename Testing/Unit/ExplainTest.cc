@@ -1121,6 +1121,57 @@ TEST(ExplainSeveral, JointFitOfOneParameterUsesTheLikelihoodRatioInterval) {
     EXPECT_TRUE(J.consistent) << "likelihood ratio " << J.statistic;
 }
 
+// The joint fit votes on the transfers' status. Two materials whose relaxation differs (C 0.064, t0
+// 4.5 s against C 0.048, t0 0.22 s): each recording's term helps the other (the transfers confirm it),
+// but one set of values does not serve both, so the mechanism is recording_dependent. One material
+// whose first recording's wall-friction estimate made the other worse (transfers: recording_dependent)
+// while a common muK fits both (p 0.88): confirmed. (A pair of the pair benchmark, seed 1.)
+TEST(ExplainSeveral, JointFitVotesOnTheTransferStatus) {
+    const SeveralResult r = runPair({"contact_relaxation", 8, 0.5, 31, 1500, 7}, {"contact_relaxation", 8, 0.5, 32, 1500, 8});
+    ASSERT_EQ(r.mechanisms.size(), 1u) << r.summary;
+    ASSERT_EQ(r.joint.size(), 1u);
+    EXPECT_EQ(r.transferStatus[0], "confirmed");
+    EXPECT_FALSE(r.joint[0].consistent) << "p " << r.joint[0].pValue;
+    EXPECT_EQ(r.status[0], "recording_dependent");
+    EXPECT_EQ(r.confirmed[0], 0);
+    EXPECT_EQ(r.verdict, "missing_physics");
+    EXPECT_NE(r.summary.find("does not serve them all"), std::string::npos) << r.summary;
+
+    const SeveralResult w = runPair({"wall_friction", 5, 0.9, 150218, 2000, 150217}, {"wall_friction", 5, 0.0, 150219, 2000, 150217});
+    ASSERT_EQ(w.mechanisms.size(), 1u) << w.summary;
+    ASSERT_EQ(w.joint.size(), 1u);
+    EXPECT_EQ(w.transferStatus[0], "recording_dependent");
+    EXPECT_TRUE(w.joint[0].consistent) << "p " << w.joint[0].pValue;
+    EXPECT_EQ(w.status[0], "confirmed");
+    EXPECT_EQ(w.confirmed[0], 1);
+}
+
+// Three recordings, two of one material and one of another (t0 0.22 s against 4.5 s): the joint fit is
+// inconsistent and the recording of the other material carries most of the likelihood ratio; the
+// recordings' parts add up to it.
+TEST(ExplainSeveral, JointFitNamesTheRecordingThatDiffers) {
+    const CaseSpec a{"contact_relaxation", 8, 0.5, 31, 1500, 7}, b{"contact_relaxation", 8, 0.5, 32, 1500, 7},
+        c{"contact_relaxation", 8, 0.5, 33, 1500, 8};
+    const GeneratedCase ga = generateCase(a), gb = generateCase(b), gc = generateCase(c);
+    ExplainOptions opt;
+    opt.figures = false;
+    const SeveralResult r = explainSeveral({ga.rec, gb.rec, gc.rec}, {ga.proto, gb.proto, gc.proto}, opt);
+    ASSERT_EQ(r.joint.size(), 1u) << r.summary;
+    const JointFit& J = r.joint[0];
+    ASSERT_EQ(J.recordings, (std::vector<std::size_t>{0, 1, 2}));
+    EXPECT_FALSE(J.consistent) << "p " << J.pValue;
+    ASSERT_EQ(J.recordingStatistic.size(), 3u);
+    double sum = 0;
+    for (double x : J.recordingStatistic) {
+        EXPECT_GE(x, 0.0);
+        sum += x;
+    }
+    EXPECT_NEAR(sum, J.statistic, 0.05 * J.statistic + 0.5);
+    EXPECT_GT(J.recordingStatistic[2], J.recordingStatistic[0]);
+    EXPECT_GT(J.recordingStatistic[2], J.recordingStatistic[1]);
+    EXPECT_GT(J.recordingStatistic[2], 0.5 * sum);
+}
+
 TEST(ExplainSeveral, CommandWritesTheJointReportAndEachRecordingsOwn) {
     const pdpm::testing::TempDir tmp;
     const std::string d = tmp.str();
@@ -1135,8 +1186,11 @@ TEST(ExplainSeveral, CommandWritesTheJointReportAndEachRecordingsOwn) {
     EXPECT_EQ(rep.at("recordings").size(), 2u);
     EXPECT_EQ(rep.at("heldout_recordings").size(), 2u);
     EXPECT_EQ(rep.at("mechanisms").asArray().at(0).at("heldout_recording_status").asString(), "confirmed");
+    EXPECT_EQ(rep.at("mechanisms").asArray().at(0).at("heldout_recording_status_from_transfers").asString(), "confirmed");
     for (const char* key : {"windows", "fit", "dem_confirmation", "joint_material_parameters"}) EXPECT_TRUE(rep.has(key)) << key;
     const Json& jf = rep.at("joint_material_parameters").asArray().at(0);
+    ASSERT_EQ(jf.at("separate").size(), 2u);
+    for (const Json& x : jf.at("separate").asArray()) EXPECT_GE(x.at("likelihood_ratio_part").asNumber(), 0.0);
     EXPECT_EQ(jf.at("mechanism").asString(), "contact_relaxation");
     EXPECT_EQ(jf.at("consistency").at("says").asString(), "consistent");
     EXPECT_EQ(jf.at("parameters").at("C").at("ci95").size(), 2u);
@@ -1205,4 +1259,156 @@ TEST(ExplainCalibratedCompliance, ModelFileRange) {
     ASSERT_FALSE(rp.mechanisms.empty());
     for (const auto& m : rp.mechanisms)
         for (const auto& w : m.widenedBy) EXPECT_NE(w, "instrument_compliance");
+}
+
+// ---- creep steps (constant stress) ------------------------------------------------------------------
+namespace {
+/// A record made by the surrogate itself (linear skeleton E, contact relaxation C, t0): ramps at a
+/// constant strain rate up to their target stress, creep steps where the strain is solved sample by
+/// sample (bisection) so that the model's stress stays at the step's start value, an unload, a reload
+/// and a strain hold; white noise of sd `noise`; the `step` column is written.
+std::pair<Recording, Protocol> surrogateCreepRecord(double C, double t0, double noise) {
+    Protocol proto;
+    proto.device = "periodic";
+    proto.height = 0.05;
+    proto.source = "creep-test";
+    const auto step = [](StepType ty, double target, double dur) {
+        ProtocolStep s;
+        s.type = ty;
+        s.targetStress = target;
+        s.duration = dur;
+        return s;
+    };
+    proto.steps = {step(StepType::Ramp, 10e3, -1), step(StepType::Creep, -1, 150), step(StepType::Ramp, 20e3, -1),
+                   step(StepType::Creep, -1, 150), step(StepType::Unload, 6e3, -1), step(StepType::Ramp, 26e3, -1),
+                   step(StepType::Hold, -1, 150)};
+    const double E = 5e5, e0 = 0.01, rate = 2e-4, dt = 0.5;
+    ModelInput in;
+    in.epsRange = 0.06;
+    in.epsMin = 0;
+    in.stressMax = 26e3;
+    in.duration = 800;
+    std::vector<double> p;
+    std::vector<char> on(kNumComp, 0);
+    on[kBaseline] = on[kRelaxation] = 1;
+    std::vector<double> out;
+    Recording rec;
+    // stress of the model at the last sample of the record so far
+    const auto stressNow = [&]() {
+        in.t = rec.t;
+        in.eps = rec.strain;
+        in.rate = smoothedRate(rec.t, rec.strain, 1);
+        const Model m(in);
+        if (p.empty()) {
+            p = m.defaults();
+            p[pE] = E;
+            p[pEps0] = e0;
+            p[pRelaxC] = C;
+            p[pRelaxT0] = t0;
+        }
+        m.evaluate(p, on, out);
+        return out.back();
+    };
+    const auto push = [&](double t, double e, int k, bool hold) {
+        rec.t.push_back(t);
+        rec.strain.push_back(e);
+        rec.step.push_back(k);
+        in.hold.push_back(hold ? 1 : 0);
+    };
+    double t = 0, e = 0;
+    push(t, e, 0, false);
+    for (int k = 0; k < int(proto.steps.size()); ++k) {
+        const ProtocolStep& s = proto.steps[std::size_t(k)];
+        if (s.type == StepType::Ramp || s.type == StepType::Unload) {
+            const double dir = s.type == StepType::Ramp ? 1 : -1;
+            for (int guard = 0; guard < 100000; ++guard) {
+                t += dt;
+                e += dir * rate * dt;
+                push(t, e, k, false);
+                const double sNow = stressNow();
+                if (dir > 0 ? sNow >= s.targetStress : sNow <= s.targetStress) break;
+            }
+        } else {
+            const double sHold = out.back();
+            const double tEnd = t + s.duration;
+            while (t + dt <= tEnd + 1e-9) {
+                t += dt;
+                if (s.type == StepType::Hold) {
+                    push(t, e, k, true);
+                    continue;
+                }
+                double lo = e, hi = e + 0.01;  // the creep strain of this sample: stress back at sHold
+                push(t, e, k, true);
+                for (int it = 0; it < 50; ++it) {
+                    rec.strain.back() = 0.5 * (lo + hi);
+                    (stressNow() < sHold ? lo : hi) = rec.strain.back();
+                }
+                e = rec.strain.back() = 0.5 * (lo + hi);
+            }
+        }
+    }
+    stressNow();
+    std::mt19937_64 g(11);
+    std::normal_distribution<double> N(0, noise);
+    rec.stress = out;
+    for (double& x : rec.stress) x += N(g);
+    rec.source = "creep-test";
+    rec.strainSource = "axial_strain";
+    for (ProtocolStep& s : proto.steps) s.duration = -1;  // durations are not needed (and not checked)
+    return {rec, proto};
+}
+} // namespace
+
+// Contact relaxation at constant stress is creep: the strain grows so that the relaxing contacts keep
+// carrying the stress. A creep step of the protocol is therefore a hold of the relaxation term from its
+// first sample (creepSamples(): the `step` column and the step types), although the strain-rate phases
+// call its fast start a loading. On a record the surrogate makes with C = 0.06, t0 = 0.5 s (two creep
+// steps, an unload, a reload and a strain hold; noise 150 Pa against a creep of several kPa of the
+// skeleton's stress), contact_relaxation is named and C recovered within 10 % (measured: 0.0586, RMSE
+// 154 Pa); without the step column the creep's start is a loading without relaxation and the fit is
+// worse (measured: "unexplained", RMSE 1167 Pa).
+TEST(ExplainCreep, ACreepStepIsARelaxationHoldFromItsFirstSample) {
+    auto [rec, proto] = surrogateCreepRecord(0.06, 0.5, 150);
+    const std::vector<char> creep = creepSamples(rec, proto);
+    std::size_t nCreep = 0, firstCreep = rec.size();
+    for (std::size_t i = 0; i < creep.size(); ++i)
+        if (creep[i]) {
+            ++nCreep;
+            firstCreep = std::min(firstCreep, i);
+        }
+    ASSERT_EQ(nCreep, 600u);  // two steps of 150 s at 0.5 s
+    const ModelInput in = makeModelInput(rec, proto);
+    for (std::size_t i = 0; i < creep.size(); ++i) {
+        if (creep[i]) {
+            ASSERT_EQ(in.hold[i], 1) << "creep sample " << i;
+        }
+    }
+    Recording plain = rec;
+    plain.step.clear();
+    EXPECT_EQ(makeModelInput(plain, proto).hold[firstCreep + 1], 0) << "the strain rate alone calls the creep's start a loading";
+
+    ExplainOptions opt;
+    opt.figures = false;
+    const ExplainResult r = pdpm::explain::explain(rec, proto, opt);
+    ASSERT_EQ(r.verdict, "missing_physics") << r.summary;
+    const MechanismResult* relax = nullptr;
+    for (const MechanismResult& m : r.mechanisms)
+        if (m.comp == kRelaxation) relax = &m;
+    ASSERT_NE(relax, nullptr) << r.summary;
+    EXPECT_NEAR(relax->value[0], 0.06, 0.006) << r.summary;
+    const ExplainResult q = pdpm::explain::explain(plain, proto, opt);
+    EXPECT_LT(r.rmseAugmented, q.rmseAugmented) << "with the creep steps known the fit must be better";
+}
+
+// The step column is checked against the protocol: an index beyond its steps is refused (exit 2).
+TEST(ExplainCreep, StepColumnOutsideTheProtocolIsRefused) {
+    const pdpm::testing::TempDir d;
+    auto [rec, proto] = surrogateCreepRecord(0.06, 0.5, 150);
+    const std::string csv = d.file("r.csv");
+    std::ostringstream os;
+    os << std::setprecision(17) << "time_s,step,axial_strain,axial_stress_Pa\n";
+    for (std::size_t i = 0; i < rec.size(); ++i)
+        os << rec.t[i] << "," << (i + 1 == rec.size() ? 7 : rec.step[i]) << "," << rec.strain[i] << "," << rec.stress[i] << "\n";
+    writeWholeFile(csv, os.str());
+    EXPECT_THROW(readRecording(csv, proto), InputError);
 }

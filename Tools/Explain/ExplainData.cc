@@ -121,6 +121,15 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
         if (std::abs(e) >= 1) inputError(path + ": axial strain " + std::to_string(e) + " is not in (-1, 1)");
     if (tab.hasColumn("lateral_stress_Pa")) r.lateral = tab.columnValues("lateral_stress_Pa");
     if (tab.hasColumn("bottom_stress_Pa")) r.bottom = tab.columnValues("bottom_stress_Pa");
+    if (tab.hasColumn("step")) {
+        const std::vector<double> st = tab.columnValues("step");
+        for (std::size_t i = 0; i < st.size(); ++i) {
+            if (!(st[i] >= 0) || st[i] != std::floor(st[i]) || st[i] >= double(std::max<std::size_t>(proto.steps.size(), 1)))
+                inputError(path + ": step " + std::to_string(st[i]) + " (sample " + std::to_string(i + 1) +
+                           ") is not a step of the protocol (" + std::to_string(proto.steps.size()) + " steps)");
+            r.step.push_back(static_cast<int>(st[i]));
+        }
+    }
     double smax = 0, emin = r.strain[0], emax = r.strain[0];
     for (std::size_t i = 0; i < r.size(); ++i) {
         smax = std::max(smax, std::abs(r.stress[i]));
@@ -130,6 +139,16 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
     if (!(smax > 0)) inputError(path + ": axial_stress_Pa is zero throughout");
     if (!(emax > emin)) inputError(path + ": the control channel (" + r.strainSource + ") never changes");
     return r;
+}
+
+std::vector<char> creepSamples(const Recording& rec, const Protocol& proto) {
+    std::vector<char> c(rec.size(), 0);
+    if (rec.step.size() != rec.size()) return c;
+    for (std::size_t i = 0; i < rec.size(); ++i) {
+        const auto k = static_cast<std::size_t>(rec.step[i]);
+        c[i] = k < proto.steps.size() && proto.steps[k].type == StepType::Creep;
+    }
+    return c;
 }
 
 void checkConsistency(const Recording& rec, const Protocol& proto) {

@@ -42,6 +42,9 @@ struct Recording {
     std::vector<double> stress;  ///< axial stress at the piston, Pa
     std::vector<double> lateral; ///< lateral stress, Pa (empty if not recorded)
     std::vector<double> bottom;  ///< stress on the bottom plate, Pa (empty if not recorded)
+    /// protocol step index of each sample (the `step` column; empty if not recorded). With it, the
+    /// samples of a creep step (hold_stress) are known exactly (creepSamples()).
+    std::vector<int> step;
     std::string source;
     std::string strainSource;    ///< "axial_strain" or "piston_position_m"
     std::size_t size() const { return t.size(); }
@@ -59,6 +62,11 @@ Recording readRecording(const std::string& path, const Protocol& proto);
 void checkConsistency(const Recording& rec, const Protocol& proto);
 
 const char* stepTypeName(StepType t);
+
+/// 1 for the samples of creep (hold_stress) steps: from the recording's `step` column and the
+/// protocol's step types; all 0 without a step column. During a creep step the strain moves at
+/// constant stress, so the strain rate alone labels its start a loading (detectPhases).
+std::vector<char> creepSamples(const Recording& rec, const Protocol& proto);
 
 /// Phase of each sample derived from the control channel.
 enum class Phase { Load, Hold, Unload, Reload };

@@ -44,6 +44,11 @@ ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
     for (const auto& s : detectPhases(rec.t, rec.strain))
         if (s.phase == Phase::Hold)
             for (std::size_t i = s.begin; i < s.end; ++i) in.hold[i] = 1;
+    // a creep step (constant stress) is a hold of the relaxation term from its first sample: the
+    // strain it creeps is what keeps the stress up while the contacts relax (the stress rate is
+    // zero, the strain rate is not, so the strain-rate phases call its start a loading)
+    const std::vector<char> creep = creepSamples(rec, proto);
+    for (std::size_t i = 0; i < n; ++i) in.hold[i] = in.hold[i] || creep[i];
     in.height = proto.height;
     in.diameter = proto.diameter;
     const auto [lo, hi] = std::minmax_element(rec.strain.begin(), rec.strain.end());

@@ -383,6 +383,11 @@ JointFit fitJointly(int comp, const std::vector<std::size_t>& which, const std::
     // and at its own estimate
     J.m2lnLSeparate = 0;
     for (Part& pt : parts) {
+        // this recording's term of -2 ln L at the joint optimum (its device refitted from the optimum's fit)
+        std::vector<double> pj = pt.start;
+        prof.setShared(uBest, pj);
+        const FitResult atJoint = fitModel(pt.model, pt.rec->stress, pt.on, pj, pt.device);
+        const double termJoint = double(pt.rec->size()) * std::log(std::max(atJoint.rss, 1e-300));
         FitOptions fo = pt.device;
         fo.freeParams.insert(fo.freeParams.end(), shared.begin(), shared.end());
         FitResult best = fitModel(pt.model, pt.rec->stress, pt.on, pt.start, fo);
@@ -393,7 +398,9 @@ JointFit fitJointly(int comp, const std::vector<std::size_t>& which, const std::
         std::vector<double> vals;
         for (int j : shared) vals.push_back(best.p[std::size_t(j)]);
         J.separate.push_back(vals);
-        J.m2lnLSeparate += double(pt.rec->size()) * std::log(std::max(best.rss, 1e-300));
+        const double termOwn = double(pt.rec->size()) * std::log(std::max(best.rss, 1e-300));
+        J.m2lnLSeparate += termOwn;
+        J.recordingStatistic.push_back(std::max(0.0, termJoint - termOwn));
     }
     J.statistic = std::max(0.0, J.m2lnLJoint - J.m2lnLSeparate);
     J.dof = int(d) * int(parts.size() - 1);

@@ -43,6 +43,12 @@ struct JointFit {
     std::vector<std::vector<double>> separate;
     double m2lnLJoint = 0, m2lnLSeparate = 0;  ///< -2 ln L up to the same constant
     double statistic = 0;                      ///< likelihood ratio m2lnLJoint - m2lnLSeparate (>= 0)
+    /// per entry of `recordings`: its own part of the likelihood ratio, n_k ln RSS_k at the joint
+    /// optimum (device refitted there) minus at its own values, clamped at 0. They add up to about
+    /// `statistic`. A part grows with how far the recording's own values sit from the joint ones and
+    /// with its precision, so with three or more recordings the largest part usually points at the one
+    /// that differs (a pointer, not a test: two imprecise recordings that agree can outweigh it).
+    std::vector<double> recordingStatistic;
     int dof = 0;
     double pValue = 1;
     bool consistent = true;  ///< pValue >= kJointConsistencyLevel

@@ -104,6 +104,7 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
             }
         }
     R.foundIn.assign(R.mechanisms.size(), 0);
+    const std::vector<char> helped = R.confirmed;  // some transfer reached the threshold
     for (std::size_t u = 0; u < R.mechanisms.size(); ++u) {
         for (const auto& r : R.per)
             for (const auto& m : r.mechanisms) R.foundIn[u] += m.comp == R.mechanisms[u];
@@ -126,6 +127,25 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
             if (informs) which.push_back(k);
         }
         if (which.size() >= 2) R.joint.push_back(fitJointly(c, which, recs, protos, R.per));
+    }
+    // The joint fit votes on the transfers' status. Its consistency test asks "can one set of material
+    // parameters serve every recording?" with each recording's uncertainty counted, where a transfer
+    // only tries one recording's point estimate on another. So a mechanism accepted in several
+    // recordings whose transfers confirmed it but whose recordings need different values is
+    // recording_dependent, and one whose point estimate made another recording worse, while another
+    // transfer helped, and for which a common value fits all is confirmed.
+    R.transferStatus = R.status;
+    for (const JointFit& J : R.joint) {
+        const auto u = static_cast<std::size_t>(std::find(R.mechanisms.begin(), R.mechanisms.end(), J.comp) -
+                                                R.mechanisms.begin());
+        if (u >= R.mechanisms.size()) continue;
+        if (R.status[u] == "confirmed" && !J.consistent && R.foundIn[u] >= 2) {
+            R.status[u] = "recording_dependent";
+            R.confirmed[u] = 0;
+        } else if (R.status[u] == "recording_dependent" && J.consistent && helped[u]) {
+            R.status[u] = "confirmed";
+            R.confirmed[u] = 1;
+        }
     }
     // each recording's whole accepted set (when it has more than one mechanism)
     for (std::size_t a = 0; a < recs.size(); ++a) {
@@ -164,8 +184,8 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
             sum << " (confirmed on a held-out recording: the term calibrated on one recording improves the fit of another)";
         if (!conf.empty() && !recur.empty()) sum << "; also " << names(recur);
         if (!recur.empty())
-            sum << " (found in several recordings, but the parameters of one make another fit worse: they differ "
-                << "between the recordings)";
+            sum << " (present in several recordings, but one set of its parameters does not serve them all: "
+                << "the values differ between the recordings)";
         if ((!conf.empty() || !recur.empty()) && !open.empty()) sum << "; also " << names(open);
         if (!open.empty()) sum << " (the other recordings can neither confirm nor contradict it)";
         if (!refuted.empty()) sum << "; found in one recording but contradicted by another: " << names(refuted);
@@ -183,6 +203,24 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
     R.summary = sum.str();
     return R;
 }
+
+namespace {
+/// ", most of it from recording K (P % of the likelihood ratio)": where an inconsistent joint fit's
+/// likelihood ratio comes from (JointFit::recordingStatistic).
+std::string largestPart(const JointFit& J) {
+    // with two recordings the split says only which one bends more to share (the less precise one)
+    if (J.recordingStatistic.size() != J.recordings.size() || J.recordings.size() < 3) return "";
+    double total = 0;
+    std::size_t q = 0;
+    for (std::size_t k = 0; k < J.recordingStatistic.size(); ++k) {
+        total += J.recordingStatistic[k];
+        if (J.recordingStatistic[k] > J.recordingStatistic[q]) q = k;
+    }
+    if (!(total > 0)) return "";
+    return "; most of the ratio from recording " + std::to_string(J.recordings[q] + 1) + " (" +
+           num(100 * J.recordingStatistic[q] / total, 2) + " %)";
+}
+} // namespace
 
 void writeSeveralReport(const std::string& dir, const SeveralResult& R, const std::vector<Recording>& recs,
                         const std::vector<Protocol>& protos, const ExplainOptions& opt) {
@@ -237,6 +275,8 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         mj.set("confirmed_on_heldout_recording", bool(R.confirmed[u]));
         mj.set("found_in_recordings", double(R.foundIn[u]));
         mj.set("heldout_recording_status", R.status[u]);
+        // the transfers' own answer, before the joint fit's consistency test voted (equal when it agreed)
+        mj.set("heldout_recording_status_from_transfers", R.transferStatus[u]);
         mechs.push(mj);
     }
     j.set("mechanisms", mechs);
@@ -292,6 +332,8 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
             Json ps = Json::object();
             for (std::size_t a = 0; a < J.joint.params.size(); ++a) ps.set(defs[J.joint.params[a]].name, J.separate[q][a]);
             so.set("parameters", ps);
+            // this recording's part of the likelihood ratio (JointFit::recordingStatistic)
+            so.set("likelihood_ratio_part", J.recordingStatistic[q]);
             sep.push(so);
         }
         o.set("separate", sep);
@@ -375,11 +417,17 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         const std::string& st = R.status[u];
         md << "- " << compName(R.mechanisms[u]) << " (found in " << R.foundIn[u] << " of " << recs.size() << "): "
            << (st == "confirmed"             ? "confirmed on a held-out recording"
-               : st == "recording_dependent" ? "present in several recordings, but the parameters of one make another "
-                                               "fit worse (device, geometry or rate dependence of the effective parameter)"
+               : st == "recording_dependent" ? "present in several recordings, but one set of its parameters does not "
+                                               "serve them all (device, geometry or rate dependence of the effective parameter)"
                : st == "not_testable_elsewhere" ? "not testable on the other recordings (its term does not act there)"
                : st == "inconclusive"           ? "acts on another recording, but neither clearly helps nor hurts there"
                                                 : "contradicted: it makes another recording fit worse")
+           << (st != R.transferStatus[u]
+                   ? std::string(st == "confirmed"
+                                     ? " (the transferred values alone made a recording worse, but one common set fits all:"
+                                     : " (the transferred values helped, but the recordings need different values:") +
+                         " joint fit below)"
+                   : std::string())
            << ";";
         for (std::size_t k = 0; k < recs.size(); ++k)
             for (const auto& m : R.per[k].mechanisms)
@@ -411,7 +459,7 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
             }
             md << "| " << compName(J.comp) << " | " << used << " | " << joint << " | " << alone << " | "
                << num(J.statistic, 3) << " (" << J.dof << ") | " << num(J.pValue, 2) << " | "
-               << (J.consistent ? "one set explains all" : "the recordings need different values") << " |\n";
+               << (J.consistent ? "one set explains all" : "the recordings need different values" + largestPart(J)) << " |\n";
         }
     }
     writeWholeFile(dir + "/report.md", md.str());

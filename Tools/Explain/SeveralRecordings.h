@@ -11,6 +11,8 @@
 // but decides nothing; "recording_dependent" when it was accepted in several recordings but the
 // parameters of one make another worse (the thesis' cocoa relaxes with C 0.079 in the lambdameter and
 // 0.044 in the FT4); "not_transferable" when found in one recording and contradicted by another.
+// The joint fit (JointFit.h) then votes: confirmed, accepted in several recordings, but inconsistent
+// -> recording_dependent; recording_dependent with some transfer that helped, and consistent -> confirmed.
 // Documentation/tools-explain.md ("Several recordings") describes the verdict rules.
 #pragma once
 #include <string>
@@ -47,6 +49,11 @@ struct SeveralResult {
     /// per entry: "confirmed", "inconclusive", "not_testable_elsewhere", "recording_dependent" or
     /// "not_transferable" (see the file comment)
     std::vector<std::string> status;
+    /// per entry: the status from the transfers alone, before the joint fit's vote (`status` differs
+    /// where the joint consistency test overruled it: confirmed, accepted in several recordings, but
+    /// inconsistent -> recording_dependent; recording_dependent, some transfer helped, but consistent ->
+    /// confirmed)
+    std::vector<std::string> transferStatus;
     std::vector<Transfer> transfers;      ///< single mechanisms, then each recording's full accepted set
     /// one set of material parameters for every recording that informs a mechanism (JointFit.h): per
     /// mechanism found, when it was accepted in, or its transfer acts on, at least two recordings
