@@ -1147,8 +1147,8 @@ TEST(ExplainSeveral, JointFitVotesOnTheTransferStatus) {
 }
 
 // Three recordings, two of one material and one of another (t0 0.22 s against 4.5 s): the joint fit is
-// inconsistent and the recording of the other material carries most of the likelihood ratio; the
-// recordings' parts add up to it.
+// inconsistent, the recording of the other material carries most of the likelihood ratio (the parts add
+// up to it), and leaving each out in turn finds it, and only it, different from the others.
 TEST(ExplainSeveral, JointFitNamesTheRecordingThatDiffers) {
     const CaseSpec a{"contact_relaxation", 8, 0.5, 31, 1500, 7}, b{"contact_relaxation", 8, 0.5, 32, 1500, 7},
         c{"contact_relaxation", 8, 0.5, 33, 1500, 8};
@@ -1170,6 +1170,16 @@ TEST(ExplainSeveral, JointFitNamesTheRecordingThatDiffers) {
     EXPECT_GT(J.recordingStatistic[2], J.recordingStatistic[0]);
     EXPECT_GT(J.recordingStatistic[2], J.recordingStatistic[1]);
     EXPECT_GT(J.recordingStatistic[2], 0.5 * sum);
+    // leave-one-out: only the third differs from the others; leaving out the first or the second
+    // leaves two recordings that disagree among themselves
+    ASSERT_EQ(J.leftOut.size(), 3u);
+    for (std::size_t q = 0; q < 3; ++q) EXPECT_EQ(J.leftOut[q].recording, q);
+    EXPECT_TRUE(J.leftOut[2].differs) << "p " << J.leftOut[2].pValue;
+    EXPECT_TRUE(J.leftOut[2].othersConsistent);
+    EXPECT_FALSE(J.leftOut[0].differs);
+    EXPECT_FALSE(J.leftOut[1].differs);
+    EXPECT_FALSE(J.leftOut[0].othersConsistent);
+    EXPECT_EQ(J.leftOut[2].dof, 2);
 }
 
 TEST(ExplainSeveral, CommandWritesTheJointReportAndEachRecordingsOwn) {

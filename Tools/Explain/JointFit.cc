@@ -401,6 +401,7 @@ JointFit fitJointly(int comp, const std::vector<std::size_t>& which, const std::
         const double termOwn = double(pt.rec->size()) * std::log(std::max(best.rss, 1e-300));
         J.m2lnLSeparate += termOwn;
         J.recordingStatistic.push_back(std::max(0.0, termJoint - termOwn));
+        J.recordingOwnTerm.push_back(termOwn);
     }
     J.statistic = std::max(0.0, J.m2lnLJoint - J.m2lnLSeparate);
     J.dof = int(d) * int(parts.size() - 1);
@@ -408,6 +409,27 @@ JointFit fitJointly(int comp, const std::vector<std::size_t>& which, const std::
     J.consistent = J.pValue >= kJointConsistencyLevel;
     J.evaluations = prof.evaluations;
     return J;
+}
+
+void leaveOneOut(JointFit& J, const std::vector<Recording>& recs, const std::vector<Protocol>& protos,
+                 const std::vector<ExplainResult>& per) {
+    J.leftOut.clear();
+    if (J.recordings.size() < 3 || J.recordingOwnTerm.size() != J.recordings.size()) return;
+    const int d = static_cast<int>(J.joint.params.size());
+    for (std::size_t q = 0; q < J.recordings.size(); ++q) {
+        std::vector<std::size_t> others;
+        for (std::size_t r = 0; r < J.recordings.size(); ++r)
+            if (r != q) others.push_back(J.recordings[r]);
+        const JointFit O = fitJointly(J.comp, others, recs, protos, per);
+        JointFit::LeftOut L;
+        L.recording = J.recordings[q];
+        L.statistic = std::max(0.0, J.m2lnLJoint - O.m2lnLJoint - J.recordingOwnTerm[q]);
+        L.dof = d;
+        L.pValue = chiSquareUpperTail(L.statistic, d);
+        L.othersConsistent = O.consistent;
+        L.differs = O.consistent && L.pValue < kJointConsistencyLevel;
+        J.leftOut.push_back(L);
+    }
 }
 
 } // namespace pdpm::explain

@@ -53,6 +53,22 @@ struct JointFit {
     double pValue = 1;
     bool consistent = true;  ///< pValue >= kJointConsistencyLevel
     int evaluations = 0;     ///< profile evaluations (each refits every recording's device parameters)
+    /// per entry of `recordings`: n_k ln RSS_k with the recording's own material parameters (its term
+    /// of m2lnLSeparate)
+    std::vector<double> recordingOwnTerm;
+    /// With three or more recordings, each one left out in turn (leaveOneOut): the likelihood ratio of
+    /// "all share one set" against "the others share one set, this one has its own", chi-square with
+    /// (material parameters) dof. The recording differs from the others when the others are consistent
+    /// among themselves (their own joint fit) and p < kJointConsistencyLevel; when the others disagree
+    /// among themselves as well, leaving this one out does not explain the inconsistency.
+    struct LeftOut {
+        std::size_t recording = 0;
+        double statistic = 0, pValue = 1;
+        int dof = 0;
+        bool othersConsistent = true;
+        bool differs = false;
+    };
+    std::vector<LeftOut> leftOut;
     /// how the 95 % intervals were found: profile_likelihood_ratio (one material parameter: where
     /// -2 ln L rises by 3.84 along the profile), profile_curvature (several), or not_determined (the
     /// profile is not curved upwards at the optimum; the intervals are the parameters' whole ranges)
@@ -65,5 +81,11 @@ double chiSquareUpperTail(double x, int dof);
 /// The joint fit of mechanism `comp` over the recordings `which` (at least two).
 JointFit fitJointly(int comp, const std::vector<std::size_t>& which, const std::vector<Recording>& recs,
                     const std::vector<Protocol>& protos, const std::vector<ExplainResult>& per);
+
+/// Fills J.leftOut when J has three or more recordings: for each recording k, the joint fit of the
+/// others (fitJointly) and the likelihood ratio m2lnLJoint(all) - m2lnLJoint(others) - (k's own term),
+/// which tests whether k shares the others' material parameters whatever they are among themselves.
+void leaveOneOut(JointFit& J, const std::vector<Recording>& recs, const std::vector<Protocol>& protos,
+                 const std::vector<ExplainResult>& per);
 
 } // namespace pdpm::explain

@@ -126,7 +126,11 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
                 informs = informs || (T.to == k && T.acts && T.mechanisms.size() == 1 && T.mechanisms[0] == c);
             if (informs) which.push_back(k);
         }
-        if (which.size() >= 2) R.joint.push_back(fitJointly(c, which, recs, protos, R.per));
+        if (which.size() >= 2) {
+            R.joint.push_back(fitJointly(c, which, recs, protos, R.per));
+            // three or more and inconsistent: which of them differs (each left out in turn)
+            if (!R.joint.back().consistent) leaveOneOut(R.joint.back(), recs, protos, R.per);
+        }
     }
     // The joint fit votes on the transfers' status. Its consistency test asks "can one set of material
     // parameters serve every recording?" with each recording's uncertainty counted, where a transfer
@@ -208,6 +212,16 @@ namespace {
 /// ", most of it from recording K (P % of the likelihood ratio)": where an inconsistent joint fit's
 /// likelihood ratio comes from (JointFit::recordingStatistic).
 std::string largestPart(const JointFit& J) {
+    if (!J.leftOut.empty()) {  // the leave-one-out test decides, the parts only point
+        std::string d;
+        int count = 0;
+        for (const JointFit::LeftOut& L : J.leftOut)
+            if (L.differs) d += (count++ ? ", " : "") + std::to_string(L.recording + 1);
+        return count == 0 ? "; no single recording differs from the others (leave-one-out)"
+                          : std::string(count == 1 ? "; recording " : "; recordings ") + d +
+                                (count == 1 ? " differs" : " each differ") + " from the others (leave-one-out, p < " +
+                                num(kJointConsistencyLevel, 2) + ")";
+    }
     // with two recordings the split says only which one bends more to share (the less precise one)
     if (J.recordingStatistic.size() != J.recordings.size() || J.recordings.size() < 3) return "";
     double total = 0;
@@ -344,6 +358,22 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
         cons.set("level", kJointConsistencyLevel);
         cons.set("says", J.consistent ? "consistent" : "inconsistent");
         o.set("consistency", cons);
+        if (!J.leftOut.empty()) {
+            Json lo = Json::array();
+            for (const JointFit::LeftOut& L : J.leftOut) {
+                Json x = Json::object();
+                x.set("recording", double(L.recording + 1));
+                x.set("likelihood_ratio", L.statistic);
+                x.set("dof", double(L.dof));
+                x.set("p_value", L.pValue);
+                x.set("others_consistent", L.othersConsistent);
+                x.set("says", L.differs             ? "differs_from_the_others"
+                              : !L.othersConsistent ? "the_others_disagree_among_themselves"
+                                                    : "agrees_with_the_others");
+                lo.push(x);
+            }
+            o.set("leave_one_out", lo);
+        }
         o.set("profile_evaluations", double(J.evaluations));
         o.set("intervals", J.intervalMethod);
         jf.push(o);
