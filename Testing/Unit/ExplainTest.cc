@@ -1127,23 +1127,21 @@ TEST(ExplainSeveral, JointFitOfOneParameterUsesTheLikelihoodRatioInterval) {
 // whose first recording's wall-friction estimate made the other worse (transfers: recording_dependent)
 // while a common muK fits both (p 0.88): confirmed. (A pair of the pair benchmark, seed 1.)
 TEST(ExplainSeveral, JointFitVotesOnTheTransferStatus) {
+    // one mechanism, one joint fit: the transfers' status, the joint consistency and the voted status
+    const auto expectVote = [](const SeveralResult& r, const char* fromTransfers, bool consistent, const char* voted) {
+        ASSERT_EQ(r.mechanisms.size(), 1u) << r.summary;
+        ASSERT_EQ(r.joint.size(), 1u);
+        EXPECT_EQ(r.transferStatus[0], fromTransfers);
+        EXPECT_EQ(r.joint[0].consistent, consistent) << "p " << r.joint[0].pValue;
+        EXPECT_EQ(r.status[0], voted);
+        EXPECT_EQ(r.confirmed[0], std::string(voted) == "confirmed" ? 1 : 0);
+    };
     const SeveralResult r = runPair({"contact_relaxation", 8, 0.5, 31, 1500, 7}, {"contact_relaxation", 8, 0.5, 32, 1500, 8});
-    ASSERT_EQ(r.mechanisms.size(), 1u) << r.summary;
-    ASSERT_EQ(r.joint.size(), 1u);
-    EXPECT_EQ(r.transferStatus[0], "confirmed");
-    EXPECT_FALSE(r.joint[0].consistent) << "p " << r.joint[0].pValue;
-    EXPECT_EQ(r.status[0], "recording_dependent");
-    EXPECT_EQ(r.confirmed[0], 0);
+    expectVote(r, "confirmed", false, "recording_dependent");
     EXPECT_EQ(r.verdict, "missing_physics");
     EXPECT_NE(r.summary.find("does not serve them all"), std::string::npos) << r.summary;
-
-    const SeveralResult w = runPair({"wall_friction", 5, 0.9, 150218, 2000, 150217}, {"wall_friction", 5, 0.0, 150219, 2000, 150217});
-    ASSERT_EQ(w.mechanisms.size(), 1u) << w.summary;
-    ASSERT_EQ(w.joint.size(), 1u);
-    EXPECT_EQ(w.transferStatus[0], "recording_dependent");
-    EXPECT_TRUE(w.joint[0].consistent) << "p " << w.joint[0].pValue;
-    EXPECT_EQ(w.status[0], "confirmed");
-    EXPECT_EQ(w.confirmed[0], 1);
+    expectVote(runPair({"wall_friction", 5, 0.9, 150218, 2000, 150217}, {"wall_friction", 5, 0.0, 150219, 2000, 150217}),
+               "recording_dependent", true, "confirmed");
 }
 
 // Three recordings, two of one material and one of another (t0 0.22 s against 4.5 s): the joint fit is
