@@ -209,9 +209,10 @@ SeveralResult explainSeveral(const std::vector<Recording>& recs, const std::vect
 }
 
 namespace {
-/// ", most of it from recording K (P % of the likelihood ratio)": where an inconsistent joint fit's
-/// likelihood ratio comes from (JointFit::recordingStatistic).
-std::string largestPart(const JointFit& J) {
+/// What an inconsistent joint fit says about which recording differs: the leave-one-out verdict when it
+/// ran (three or more recordings), else, for three or more, the recording carrying most of the
+/// likelihood ratio (JointFit::recordingStatistic); nothing for two recordings.
+std::string whichRecordingDiffers(const JointFit& J) {
     if (!J.leftOut.empty()) {  // the leave-one-out test decides, the parts only point
         std::string d;
         int count = 0;
@@ -489,7 +490,7 @@ void writeSeveralReport(const std::string& dir, const SeveralResult& R, const st
             }
             md << "| " << compName(J.comp) << " | " << used << " | " << joint << " | " << alone << " | "
                << num(J.statistic, 3) << " (" << J.dof << ") | " << num(J.pValue, 2) << " | "
-               << (J.consistent ? "one set explains all" : "the recordings need different values" + largestPart(J)) << " |\n";
+               << (J.consistent ? "one set explains all" : "the recordings need different values" + whichRecordingDiffers(J)) << " |\n";
         }
     }
     writeWholeFile(dir + "/report.md", md.str());
