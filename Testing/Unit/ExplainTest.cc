@@ -973,10 +973,57 @@ TEST(ExplainBottomSensor, ReadsTheLoadingTransmission) {
     EXPECT_FALSE(readBottomSensor(base, proto).present) << "no bottom channel";
 }
 
+// The transmission is read over the first loading's ramps and the holds after them, with the strain
+// as instrumental variable: a piston stress as noisy as the bottom's does not pull the slope towards
+// 0 (least squares of b on the noisy s would: errors in the regressor), and the holds' many samples
+// count. Three ramps with holds, then an unload; noise sd 10 % of the top stress on both channels (least
+// squares would make T = 1 look like a 12 % loss, well beyond its 3 standard errors).
+TEST(ExplainBottomSensor, NoisyPistonStressDoesNotFakeALoss) {
+    std::mt19937_64 g(11);
+    std::normal_distribution<double> N(0, 1);
+    const double E = 2e5, top = 0.09 * E, sd = 0.10 * top;
+    for (double T : {1.0, 0.7}) {
+        Recording r;
+        std::vector<double> truth;
+        double e = 0, time = 0;
+        const auto add = [&](double eps) {
+            r.t.push_back(time), r.strain.push_back(eps), truth.push_back(E * eps);
+            time += 1;
+        };
+        for (int level = 1; level <= 3; ++level) {
+            for (int k = 0; k < 40; ++k) add(e += 0.03 / 40);
+            for (int k = 0; k < 200; ++k) add(e);
+        }
+        for (int k = 0; k < 40; ++k) add(e -= 0.05 / 40);
+        std::vector<double> noiseS, noiseB;
+        for (std::size_t i = 0; i < truth.size(); ++i) {
+            r.stress.push_back(truth[i] + sd * N(g));
+            r.bottom.push_back(150 + T * truth[i] + sd * N(g));
+        }
+        Protocol proto;
+        proto.diameter = 0.05, proto.height = 0.05;
+        const BottomSensor b = readBottomSensor(r, proto);
+        ASSERT_TRUE(b.present);
+        EXPECT_GT(b.transmission.samples, 500) << "the holds after each ramp count";
+        EXPECT_NEAR(b.transmission.slope, T, 3 * b.transmission.se) << "T = " << T;
+        EXPECT_LT(b.transmission.se, 0.025);
+        if (T < 1) EXPECT_EQ(b.says, "wall_friction_present");
+        else EXPECT_NE(b.says, "wall_friction_present") << "a loss made of the piston stress's noise";
+        // least squares on the same samples would see a loss that is not there
+        double ms = 0, mb = 0, sxx = 0, sxy = 0;
+        std::vector<std::size_t> idx;
+        for (std::size_t i = 0; i < 720; ++i)
+            if (r.strain[i] >= 0.0269) idx.push_back(i);
+        for (std::size_t i : idx) ms += r.stress[i] / double(idx.size()), mb += r.bottom[i] / double(idx.size());
+        for (std::size_t i : idx) sxx += (r.stress[i] - ms) * (r.stress[i] - ms), sxy += (r.stress[i] - ms) * (r.bottom[i] - mb);
+        EXPECT_LT(sxy / sxx, T - 0.06) << "the least-squares slope this test guards against";
+    }
+}
+
 // A benchmark case (true plasticity, peak SNR 0.5, white noise) that the piston stress cannot tell
 // from wall friction: answered "ambiguous" (plasticity or wall_friction). A bottom sensor decides:
 // showing no stress lost to the walls it rules wall friction out (plasticity, not ambiguous); showing
-// a loss of 25 % it puts wall friction first.
+// a loss of 25 % it puts wall friction first (its channel is part of wall_friction's likelihood).
 TEST(ExplainBottomSensor, DecidesBetweenWallFrictionAndItsLookAlike) {
     GeneratedCase g;
     const ExplainResult plain = runCase({"plasticity", 0.5, 0.0, 100177, 2000}, &g);
@@ -1005,7 +1052,51 @@ TEST(ExplainBottomSensor, DecidesBetweenWallFrictionAndItsLookAlike) {
         EXPECT_TRUE(noted) << "T = " << T << ": wall_friction's note should say '" << note << "'";
     };
     expectWith(1.0, "no_wall_loss", kPlasticity, false, "ruled out by the bottom stress sensor");
-    expectWith(0.75, "wall_friction_present", kWallFriction, true, "accepted, preferred by the bottom stress sensor");
+    expectWith(0.75, "wall_friction_present", kWallFriction, true, "accepted (bottom sensor in the likelihood");
+}
+
+// The bottom sensor as a channel of wall_friction's likelihood: a benchmark wall-friction case at
+// peak SNR 1 (rho 0.5, seed 300007) that the piston stress alone leaves at no_missing_physics is
+// detected, wall_friction first, once the record has a bottom stress channel with Janssen's
+// transmission exp(-4 muK H/D) and noise of the piston's sd; a null case with a lossless sensor of
+// the same noise stays no_missing_physics.
+TEST(ExplainBottomSensor, SensorChannelEntersTheWallFrictionLikelihood) {
+    const auto withSensor = [](const CaseSpec& spec, bool lossy, ExplainResult* plain) {
+        GeneratedCase g;
+        *plain = runCase(spec, &g);
+        const double sd = g.truth.at("sigma_Pa").asNumber();
+        const double T = lossy ? std::exp(-4 * g.truth.at("primary_value").asNumber() * g.proto.height / g.proto.diameter) : 1.0;
+        std::mt19937_64 rng(spec.seed);
+        std::normal_distribution<double> N(0, 1);
+        for (double s : g.rec.stress) g.rec.bottom.push_back(T * s + sd * N(rng));
+        ExplainOptions opt;
+        opt.figures = false;
+        return pdpm::explain::explain(g.rec, g.proto, opt);
+    };
+    ExplainResult plain;
+    const ExplainResult r = withSensor({"wall_friction", 1.0, 0.5, 300007, 2000}, true, &plain);
+    ASSERT_EQ(plain.verdict, "no_missing_physics") << plain.summary;
+    EXPECT_EQ(r.verdict, "missing_physics") << r.summary;
+    ASSERT_FALSE(r.mechanisms.empty());
+    EXPECT_EQ(r.mechanisms.front().comp, kWallFriction);
+    bool found = false;
+    for (const Candidate& c : r.candidates)
+        if (c.comp == kWallFriction && c.accepted) {
+            found = true;
+            EXPECT_GT(c.sensorDBIC, 0.0);
+            EXPECT_LT(c.dBIC - c.sensorDBIC, 10.0) << "the piston stress alone would not pass";
+            EXPECT_NE(c.note.find("bottom sensor in the likelihood"), std::string::npos) << c.note;
+        }
+    EXPECT_TRUE(found);
+    // the mechanism reports Janssen's muK read from the sensor next to the piston term's
+    const double muK = generateCase({"wall_friction", 1.0, 0.5, 300007, 2000}).truth.at("primary_value").asNumber();
+    const MechanismResult& w = r.mechanisms.front();
+    EXPECT_NEAR(w.sensorMuK, muK, 0.25 * muK);
+    EXPECT_LE(w.sensorMuKLo, muK);
+    EXPECT_GE(w.sensorMuKHi, muK);
+    const ExplainResult null = withSensor({"null", 0, 0.5, 300017, 2000}, false, &plain);
+    EXPECT_EQ(plain.verdict, "no_missing_physics") << plain.summary;
+    EXPECT_EQ(null.verdict, "no_missing_physics") << null.summary;
 }
 
 // ---- several recordings of one material -----------------------------------------------------------
@@ -1394,6 +1485,22 @@ TEST(ExplainCreep, ACreepStepIsARelaxationHoldFromItsFirstSample) {
     Recording plain = rec;
     plain.step.clear();
     EXPECT_EQ(makeModelInput(plain, proto).hold[firstCreep + 1], 0) << "the strain rate alone calls the creep's start a loading";
+    // the reported phases: each creep step is one hold, from its first sample to its last
+    {
+        std::size_t holds = 0;
+        for (const PhaseSegment& s : recordPhases(rec, proto)) {
+            bool anyCreep = false, allCreep = true;
+            for (std::size_t i = s.begin; i < s.end; ++i) anyCreep = anyCreep || creep[i], allCreep = allCreep && creep[i];
+            if (!anyCreep) continue;
+            EXPECT_TRUE(allCreep && s.phase == Phase::Hold && s.end - s.begin == 300) << s.begin << ".." << s.end << " " << phaseName(s.phase);
+            ++holds;
+        }
+        EXPECT_EQ(holds, 2u);
+        bool loadInCreep = false;
+        for (const PhaseSegment& s : detectPhases(plain.t, plain.strain))
+            loadInCreep = loadInCreep || (s.phase == Phase::Load && s.begin <= firstCreep + 1 && firstCreep + 1 < s.end);
+        EXPECT_TRUE(loadInCreep) << "the strain-rate phases alone call the creep's start a loading";
+    }
 
     ExplainOptions opt;
     opt.figures = false;
@@ -1404,6 +1511,13 @@ TEST(ExplainCreep, ACreepStepIsARelaxationHoldFromItsFirstSample) {
         if (m.comp == kRelaxation) relax = &m;
     ASSERT_NE(relax, nullptr) << r.summary;
     EXPECT_NEAR(relax->value[0], 0.06, 0.006) << r.summary;
+    for (const Window& w : r.windows) {
+        if (creep[w.begin]) {
+            EXPECT_EQ(w.phase, "hold") << w.tStart << ".." << w.tEnd;
+        }
+    }
+    // the per-hold fits of Eq. 4.3 take the strain hold only (the creep steps hold the stress)
+    EXPECT_EQ(relax->perHold.holds.size(), 1u);
     const ExplainResult q = pdpm::explain::explain(plain, proto, opt);
     EXPECT_LT(r.rmseAugmented, q.rmseAugmented) << "with the creep steps known the fit must be better";
 }

@@ -146,10 +146,10 @@ double bic(double rss, std::size_t n, double nLik, double nEff, int k) {
 /// friction or plasticity, the holds for relaxation) stays identifiable in every fold fit, which
 /// plain interleaved blocks do not guarantee (a held-out block could take most of the unloading).
 /// Parts are long compared with the noise correlation time, so held-out noise does not leak.
-std::vector<int> foldsByPhase(const Recording& rec, int folds) {
+std::vector<int> foldsByPhase(const Recording& rec, const std::vector<PhaseSegment>& phases, int folds) {
     std::vector<int> f(rec.size(), 0);
     int k = 0;
-    for (const auto& ph : detectPhases(rec.t, rec.strain)) {
+    for (const auto& ph : phases) {
         const std::size_t len = ph.end - ph.begin;
         for (std::size_t i = ph.begin; i < ph.end; ++i)
             f[i] = int(((i - ph.begin) * std::size_t(folds) / std::max<std::size_t>(len, 1) + std::size_t(k)) % std::size_t(folds));
@@ -223,11 +223,10 @@ double varianceOfMean(const NoiseModel& nm, std::size_t m) {
 /// (noise-free) plus the significant excess of the rest (smoothed, noise subtracted); without it the
 /// whole excess is estimated from the smoothed residual. restIsNoise: the final residual passed the
 /// noise test, so only the explained part is attributed.
-std::vector<Window> locate(const Recording& rec, const std::vector<double>& resid, const NoiseModel& nm,
-                           std::vector<Phase>& phaseOfSample, const std::vector<double>& explained,
+std::vector<Window> locate(const Recording& rec, const std::vector<PhaseSegment>& phases, const std::vector<double>& resid,
+                           const NoiseModel& nm, std::vector<Phase>& phaseOfSample, const std::vector<double>& explained,
                            bool restIsNoise) {
     const std::size_t n = resid.size();
-    const auto phases = detectPhases(rec.t, rec.strain);
     phaseOfSample.assign(n, Phase::Load);
     std::vector<double> z(n);
     for (std::size_t i = 0; i < n; ++i) z[i] = resid[i] / nm.sigma;
@@ -400,6 +399,7 @@ BottomSensor readBottomSensor(const Recording& rec, const Protocol& proto) {
     b.present = true;
     const double loss = 1 - tr.slope;
     if (proto.height > 0 && proto.diameter > 0 && tr.slope < 1) b.janssenMuK = -std::log(tr.slope) / (4 * proto.height / proto.diameter);
+    if (tr.se > 0) b.chi2 = std::pow(std::max(0.0, loss - kMinWallLoss) / tr.se, 2);
     if (loss > std::max(3 * tr.se, kMinWallLoss)) b.says = "wall_friction_present";
     else if (loss + 3 * tr.se < kMinWallLoss) b.says = "no_wall_loss";
     else b.says = "inconclusive";
@@ -409,7 +409,7 @@ BottomSensor readBottomSensor(const Recording& rec, const Protocol& proto) {
 namespace {
 std::string bottomSensorWords(const BottomSensor& b) {
     return "the bottom plate carries " + num(b.transmission.slope, 3) + " +- " + num(3 * b.transmission.se, 2) +
-           " (3 se) of the piston stress on first loading";
+           " (3 se) of the piston stress on first loading (its ramps and the holds after them)";
 }
 } // namespace
 
@@ -542,7 +542,8 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         }
     }
 
-    const std::vector<int> foldOf = foldsByPhase(rec, opt.folds);
+    const std::vector<PhaseSegment> recPhases = recordPhases(rec, proto);  // creep steps are holds
+    const std::vector<int> foldOf = foldsByPhase(rec, recPhases, opt.folds);
 
     // ---- 4./5. screen and add mechanisms one at a time ----
     std::vector<int> cands = opt.candidates;
@@ -644,7 +645,14 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // passes with the nuisances keeps them (dropping a real drift would bias its parameters).
             // Only nuisances the selection chose (R.nuisances, not components MODEL.json switches
             // on), one at a time, and never for the forced-addition control.
-            const bool passesWithNuisances = bicCur - bicBest >= opt.bicThreshold;
+            // wall_friction with a bottom sensor: the sensor channel is part of its likelihood. The
+            // baseline says the bottom carries the piston stress (no loss beyond kMinWallLoss); the
+            // term says it carries T of it, T fitted on the channel itself (one parameter: the
+            // surrogate's piston-stress muK cannot stand for Janssen's when a free loading curve
+            // takes up the loading loss). Its share of dBIC: chi2 - ln n_eff of the channel.
+            if (c == kWallFriction && R.bottom.present && R.bottom.transmission.nEff > 1)
+                cd.sensorDBIC = R.bottom.chi2 - std::log(R.bottom.transmission.nEff);
+            const bool passesWithNuisances = bicCur - bicBest + cd.sensorDBIC >= opt.bicThreshold;
             if (!passesWithNuisances && !opt.forceBest) {
                 const std::vector<char> onWith = on2;
                 const FitResult fWith = f;
@@ -662,7 +670,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                 }
             }
             cd.rss = f.rss;
-            cd.dBIC = bicCur - bicBest;
+            cd.dBIC = bicCur - bicBest + cd.sensorDBIC;
             cd.p = f.p;
             cd.se = f.se;
             if (cd.orthFraction < 0.05)
@@ -693,7 +701,10 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (std::size_t oi = 0; oi < order.size(); ++oi) {
             Candidate& cd = roundC[order[oi]];
             if (cd.dBIC < opt.bicThreshold && !(opt.forceBest && round == 1 && oi == 0)) {
-                if (cd.note.empty()) cd.note = "rejected: dBIC " + num(cd.dBIC, 3) + " < " + num(opt.bicThreshold, 3);
+                if (cd.note.empty()) {
+                    cd.note = "rejected: dBIC " + num(cd.dBIC, 3) + " < " + num(opt.bicThreshold, 3);
+                    if (cd.sensorDBIC != 0) cd.note += " (the bottom sensor's part of it " + num(cd.sensorDBIC, 3) + ")";
+                }
                 continue;
             }
             if (chosen >= 0) {
@@ -705,8 +716,23 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             for (int u : cd.dropsNuisances) on2[u] = 0;
             cd.heldoutBase = heldoutRmse(F, on, cur.p, opt.folds, foldOf);
             cd.heldoutAug = heldoutRmse(F, on2, cd.p, opt.folds, foldOf);
-            if (cd.heldoutAug < cd.heldoutBase || opt.forceBest) {
-                cd.accepted = cd.dBIC >= opt.bicThreshold && cd.heldoutAug < cd.heldoutBase;
+            // the held-out rule over the channels of the likelihood: with a bottom sensor, the change
+            // of the held-out squared error of each channel in units of its noise variance, weighted
+            // by its effective sample count, must be negative in sum
+            bool heldoutBetter = cd.heldoutAug < cd.heldoutBase;
+            std::string sensorNote;
+            if (cd.sensorDBIC != 0 && R.bottom.transmission.heldoutFitted >= 0 && R.bottom.transmission.residualSd > 0) {
+                const Transmission& tr = R.bottom.transmission;
+                const double piston = nm.nEff * (cd.heldoutAug * cd.heldoutAug - cd.heldoutBase * cd.heldoutBase) / sigma2;
+                const double sensor = tr.nEff * (tr.heldoutFitted * tr.heldoutFitted - tr.heldoutNoLoss * tr.heldoutNoLoss) /
+                                      (tr.residualSd * tr.residualSd);
+                heldoutBetter = piston + sensor < 0;
+                sensorNote = " (bottom sensor in the likelihood: its part of dBIC " + num(cd.sensorDBIC, 3) + "; held-out bottom stress " +
+                             num(tr.heldoutNoLoss, 4) + " Pa with no loss, " + num(tr.heldoutFitted, 4) + " Pa with the fitted transmission; " +
+                             "held-out change in noise units: piston " + num(piston, 3) + ", bottom " + num(sensor, 3) + ")";
+            }
+            if (heldoutBetter || opt.forceBest) {
+                cd.accepted = cd.dBIC >= opt.bicThreshold && heldoutBetter;
                 chosen = int(order[oi]);
                 if (!cd.accepted) cd.note = "forced addition (benchmark control), fails the criterion";
                 else {
@@ -730,6 +756,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                 cd.rejectedHeldOut = true;
                 cd.note = "rejected: held-out error does not drop (" + num(cd.heldoutAug, 4) + " >= " + num(cd.heldoutBase, 4) + ")";
             }
+            cd.note += sensorNote;
         }
         for (auto& cd : roundC) R.candidates.push_back(cd);
         if (chosen < 0) break;
@@ -904,7 +931,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         }
         // once mechanisms are added and the final residual passes the noise test, the rest is noise
         const bool restIsNoise = !explained.empty() && R.pNoiseFinal >= 1e-3;
-        R.windows = locate(rec, resid, nm, R.phaseOfSample, explained, restIsNoise);
+        R.windows = locate(rec, recPhases, resid, nm, R.phaseOfSample, explained, restIsNoise);
     }
     const double excess = rssBase - double(n) * sigma2;
     double rssFinal = 0;
@@ -972,12 +999,20 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             m.hi.push_back(std::min(hi, d.hi));
         }
         m.inclusionProbability = inclusion[std::size_t(c)];
+        if (c == kWallFriction && R.bottom.present && proto.height > 0 && proto.diameter > 0) {
+            const Transmission& tr = R.bottom.transmission;
+            const double k = 4 * proto.height / proto.diameter;
+            const auto muK = [&](double T) { return T >= 1 ? 0.0 : -std::log(std::max(T, 1e-12)) / k; };
+            m.sensorMuK = muK(tr.slope);
+            m.sensorMuKLo = muK(tr.slope + 1.96 * tr.se);
+            m.sensorMuKHi = muK(std::max(tr.slope - 1.96 * tr.se, 1e-12));
+        }
         {  // where the term acts
             std::vector<char> onOff = on;
             onOff[c] = 0;
             std::vector<double> yOff;
             M.evaluate(cur.p, onOff, yOff);
-            const auto phases = detectPhases(rec.t, rec.strain);
+            const auto& phases = recPhases;
             std::vector<double> en(phases.size(), 0.0);
             double tot = 0;
             for (std::size_t k = 0; k < phases.size(); ++k) {
@@ -1003,7 +1038,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     m.actsIn.push_back(w);
                 }
         }
-        if (c == kRelaxation) m.perHold = fitHolds(rec, nm.rho);
+        if (c == kRelaxation) m.perHold = fitHolds(rec, nm.rho, 20, creepSamples(rec, proto));
         R.mechanisms.push_back(m);
     }
 
@@ -1129,6 +1164,17 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         }
         mj.set("acts_in", acts);
         if (m.comp == kRelaxation) mj.set("per_hold", holdFitsJson(m.perHold));
+        if (m.sensorMuK >= 0) {
+            Json o = Json::object();
+            o.set("value", m.sensorMuK);
+            Json ci = Json::array();
+            ci.push(m.sensorMuKLo);
+            ci.push(m.sensorMuKHi);
+            o.set("ci95", ci);
+            o.set("unit", "-");
+            o.set("definition", "Janssen's mu_w K = -ln T / (4 H/D), T the bottom sensor's loading transmission");
+            mj.set("muK_from_bottom_sensor", o);
+        }
         Json wb = Json::array();
         for (const auto& w : m.widenedBy) wb.push(w);
         mj.set("interval_widened_by", wb);
@@ -1162,6 +1208,10 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
             o.set("samples", b.transmission.samples);
             o.set("janssen_mu_w_K", b.janssenMuK > 0 ? Json(b.janssenMuK) : Json());
             o.set("says", b.says);
+            o.set("n_eff", b.transmission.nEff);
+            o.set("chi2_against_no_loss", b.chi2);
+            o.set("heldout_rmse_no_loss_Pa", b.transmission.heldoutNoLoss >= 0 ? Json(b.transmission.heldoutNoLoss) : Json());
+            o.set("heldout_rmse_fitted_Pa", b.transmission.heldoutFitted >= 0 ? Json(b.transmission.heldoutFitted) : Json());
         }
         j.set("bottom_sensor", o);
     }
@@ -1210,6 +1260,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         o.set("testable", c.testable);
         if (c.testable) {
             o.set("delta_bic", c.dBIC);
+            if (c.sensorDBIC != 0) o.set("sensor_delta_bic", c.sensorDBIC);  // the bottom sensor's part of delta_bic
             o.set("orthogonal_fraction", c.orthFraction);
             o.set("min_detectable_" + std::string(defs[primaryParam(c.comp)].name), c.minDetectable);
             Json ps = Json::object();
@@ -1284,14 +1335,14 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         if (b.says == "wall_friction_present") {
             md << ", so " << num(100 * (1 - b.transmission.slope), 2) << " % of it is carried by the walls";
             if (b.janssenMuK > 0) md << " (Janssen: mu_w K = " << num(b.janssenMuK, 3) << " at H/D " << num(proto.height / proto.diameter, 3) << ")";
-            md << ". Wall friction is thus measured directly; where it and another mechanism fit the piston stress "
-                  "equally well, the sensor decides for wall friction.\n\n";
+            md << ". Wall friction is thus measured directly: the sensor's evidence is part of wall friction's score, "
+                  "and where it and another mechanism fit the piston stress equally well, the sensor decides for wall friction.\n\n";
         } else if (b.says == "no_wall_loss") {
             md << ": no stress is lost to the walls (less than " << num(100 * kMinWallLoss, 2)
                << " %), so wall friction is ruled out and not tested.\n\n";
         } else {
             md << ": too uncertain to say whether the walls carry more than " << num(100 * kMinWallLoss, 2)
-               << " % of it; wall friction is judged on the piston stress alone.\n\n";
+               << " % of it; wall friction is judged on the piston stress, with the sensor's (weak) evidence added to its score.\n\n";
         }
     }
     if (opt.knownCompliance > 0)
@@ -1326,6 +1377,9 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
                 for (std::size_t k = 0; k < m.widenedBy.size(); ++k) md << (k ? " or " : " ") << m.widenedBy[k];
                 md << ", which the fit left out but cannot exclude)";
             }
+            if (m.sensorMuK >= 0)
+                md << "; from the bottom sensor, Janssen's mu_w K = " << num(m.sensorMuK, 3) << " (95 %: " << num(m.sensorMuKLo, 3)
+                   << " to " << num(m.sensorMuKHi, 3) << ")";
             md << "; inclusion probability (BIC) " << num(m.inclusionProbability, 3);
             if (!m.actsIn.empty()) {
                 md << "; the term acts mainly in";

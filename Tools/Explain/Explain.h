@@ -48,6 +48,9 @@ struct Candidate {
     bool accepted = false;
     bool rejectedHeldOut = false;  ///< better BIC, but the held-out error did not drop
     double heldoutBase = -1, heldoutAug = -1;
+    /// wall_friction with a usable bottom sensor: the sensor channel's part of dBIC (chi2 - ln n_eff of
+    /// the channel; 0 otherwise)
+    double sensorDBIC = 0;
     std::string note;
     std::vector<double> p, se;
     /// nuisances of the current model this candidate's best fit goes without (a nuisance selected on
@@ -77,6 +80,10 @@ struct MechanismResult {
     std::vector<std::string> widenedBy;
     /// contact_relaxation only: Eq. 4.3 fitted to each hold separately (the thesis' per-hold C, t0)
     HoldFitSummary perHold;
+    /// wall_friction with a usable bottom sensor and the device's H and D: Janssen's mu_w K from the
+    /// sensor's loading transmission T, -ln T / (4 H/D), with the 95 % interval of T (T +- 1.96 se)
+    /// carried through (-1: none). The piston-stress term's muK is the one in `value`.
+    double sensorMuK = -1, sensorMuKLo = -1, sensorMuKHi = -1;
 };
 
 /// What the recording's bottom stress sensor says about wall friction (Documentation/tools-explain.md,
@@ -88,6 +95,10 @@ struct BottomSensor {
     Transmission transmission;
     double janssenMuK = -1;  ///< -ln(slope) / (4 H/D) when the protocol gives H and D and slope < 1
     std::string says;        ///< wall_friction_present | no_wall_loss | inconclusive
+    /// the sensor channel's evidence against "no stress lost to the walls": ((1 - kMinWallLoss - T)_+ / se)^2,
+    /// the likelihood-ratio statistic of the fitted transmission against the no-loss band; it enters
+    /// wall_friction's dBIC (with one parameter, ln n_eff of the channel) in explain()
+    double chi2 = 0;
 };
 /// Smallest share of the piston stress lost to the walls on loading that the bottom sensor reports
 /// as wall friction (a 3 % gain mismatch between two load cells is within a lab's calibration).

@@ -1,6 +1,7 @@
 #include "ExplainData.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <sstream>
 
@@ -151,6 +152,35 @@ std::vector<char> creepSamples(const Recording& rec, const Protocol& proto) {
     return c;
 }
 
+std::vector<PhaseSegment> recordPhases(const Recording& rec, const Protocol& proto) {
+    std::vector<PhaseSegment> ph = detectPhases(rec.t, rec.strain);
+    const std::vector<char> creep = creepSamples(rec, proto);
+    const std::size_t n = rec.size();
+    for (std::size_t a = 0; a < n;) {
+        if (!creep[a]) {
+            ++a;
+            continue;
+        }
+        std::size_t b = a;
+        while (b < n && creep[b] && rec.step[b] == rec.step[a]) ++b;
+        // [a, b) is one creep step: cut the segments that overlap it and put a Hold in their place
+        std::vector<PhaseSegment> out;
+        for (const PhaseSegment& s : ph) {
+            if (s.end <= a || s.begin >= b) {
+                out.push_back(s);
+                continue;
+            }
+            if (s.begin < a) out.push_back({s.phase, s.begin, a});
+            if (s.end > b) out.push_back({s.phase, b, s.end});
+        }
+        out.push_back({Phase::Hold, a, b});
+        std::sort(out.begin(), out.end(), [](const PhaseSegment& x, const PhaseSegment& y) { return x.begin < y.begin; });
+        ph = std::move(out);
+        a = b;
+    }
+    return ph;
+}
+
 void checkConsistency(const Recording& rec, const Protocol& proto) {
     double total = 0;
     bool all = true;
@@ -266,29 +296,56 @@ Transmission loadingTransmission(const std::vector<double>& t, const std::vector
                                  const std::vector<double>& b) {
     Transmission out;
     if (b.size() != s.size() || s.size() != e.size()) return out;
-    std::vector<std::size_t> load;
+    // the first loading: its Load phases and the holds that follow one, up to the first unload
+    std::vector<std::size_t> first;
+    std::vector<std::pair<std::size_t, std::size_t>> loads;
+    bool loaded = false;
     for (const PhaseSegment& seg : detectPhases(t, e)) {
         if (seg.phase == Phase::Unload || seg.phase == Phase::Reload) break;
-        if (seg.phase == Phase::Load)
-            for (std::size_t i = seg.begin; i < seg.end; ++i) load.push_back(i);
+        if (seg.phase == Phase::Load) loaded = true, loads.push_back({seg.begin, seg.end});
+        if (seg.phase == Phase::Load || (seg.phase == Phase::Hold && loaded))
+            for (std::size_t i = seg.begin; i < seg.end; ++i) first.push_back(i);
     }
+    // where the loading passes 30 % of its top, judged on the piston stress smoothed within each Load
+    // phase (a centred moving average of up to 21 samples), so that the cut is a strain and no
+    // sample is kept or dropped for its own noise
+    std::vector<double> sm(s.size(), std::nan(""));
     double top = 0;
-    for (std::size_t i : load) top = std::max(top, s[i]);
+    for (auto [lo, hi] : loads)
+        for (std::size_t i = lo; i < hi; ++i) {
+            const std::size_t w = std::min<std::size_t>({10, i - lo, hi - 1 - i});
+            double sum = 0;
+            int cnt = 0;
+            for (std::size_t k = i - w; k <= i + w; ++k)
+                if (std::isfinite(s[k])) sum += s[k], ++cnt;
+            if (cnt > 0) sm[i] = sum / cnt, top = std::max(top, sm[i]);
+        }
+    double eCut = std::numeric_limits<double>::infinity();
+    for (auto [lo, hi] : loads)
+        for (std::size_t i = lo; i < hi && !(eCut < std::numeric_limits<double>::infinity()); ++i)
+            if (top > 0 && sm[i] >= 0.3 * top) eCut = e[i];
     std::vector<std::size_t> idx;
-    for (std::size_t i : load)
-        if (top > 0 && s[i] >= 0.3 * top && std::isfinite(b[i]) && std::isfinite(s[i])) idx.push_back(i);
+    for (std::size_t i : first)
+        if (e[i] >= eCut && std::isfinite(b[i]) && std::isfinite(s[i])) idx.push_back(i);
     const double n = static_cast<double>(idx.size());
     if (idx.size() < 5) return out;
-    double ms = 0, mb = 0;
-    for (std::size_t i : idx) ms += s[i], mb += b[i];
-    ms /= n, mb /= n;
-    double sxx = 0, sxy = 0;
-    for (std::size_t i : idx) sxx += (s[i] - ms) * (s[i] - ms), sxy += (s[i] - ms) * (b[i] - mb);
-    if (!(sxx > 0)) return out;
-    out.slope = sxy / sxx;
+    // instrumental variable: the strain (the control channel) is uncorrelated with the noise of both
+    // stress channels, so cov(b, e) / cov(s, e) is not biased towards 0 by the piston stress's own
+    // noise, as the least-squares slope cov(b, s) / var(s) is (errors in the regressor)
+    double ms = 0, mb = 0, me = 0;
+    for (std::size_t i : idx) ms += s[i], mb += b[i], me += e[i];
+    ms /= n, mb /= n, me /= n;
+    double szz = 0, ssz = 0, sbz = 0;
+    for (std::size_t i : idx) {
+        const double z = e[i] - me;
+        szz += z * z, ssz += (s[i] - ms) * z, sbz += (b[i] - mb) * z;
+    }
+    if (!(szz > 0) || !(std::abs(ssz) > 0)) return out;
+    out.slope = sbz / ssz;
     out.intercept = mb - out.slope * ms;
     out.samples = static_cast<int>(idx.size());
-    // residual sd and lag-1 autocorrelation (consecutive samples of the loading): n_eff = n (1 - r)/(1 + r)
+    // residual sd and lag-1 autocorrelation (consecutive samples): n_eff = n (1 - r)/(1 + r);
+    // var(slope) = s_u^2 szz / ssz^2 (instrumental-variable form) times n / n_eff
     double ss = 0, s01 = 0, prev = 0;
     for (std::size_t k = 0; k < idx.size(); ++k) {
         const double r = b[idx[k]] - out.intercept - out.slope * s[idx[k]];
@@ -298,7 +355,34 @@ Transmission loadingTransmission(const std::vector<double>& t, const std::vector
     }
     const double rho = ss > 0 ? std::clamp(s01 / ss, 0.0, 0.99) : 0.0;
     const double nEff = std::max(3.0, n * (1 - rho) / (1 + rho));
-    out.se = std::sqrt(ss / (n - 2) / sxx * n / nEff);
+    out.se = std::sqrt(ss / (n - 2) * szz / (ssz * ssz) * n / nEff);
+    out.residualSd = std::sqrt(ss / (n - 2));
+    out.nEff = nEff;
+    // blocked cross-validation over 4 contiguous parts of the samples
+    const std::size_t parts = 4;
+    if (idx.size() >= 5 * parts) {
+        double eNo = 0, eFit = 0;
+        for (std::size_t f = 0; f < parts; ++f) {
+            const std::size_t lo = idx.size() * f / parts, hi = idx.size() * (f + 1) / parts;
+            double m = 0, ts = 0, tb = 0, te = 0;
+            for (std::size_t k = 0; k < idx.size(); ++k)
+                if (k < lo || k >= hi) ts += s[idx[k]], tb += b[idx[k]], te += e[idx[k]], m += 1;
+            ts /= m, tb /= m, te /= m;
+            double z2 = 0, sz = 0, bz = 0;
+            for (std::size_t k = 0; k < idx.size(); ++k)
+                if (k < lo || k >= hi) {
+                    const double z = e[idx[k]] - te;
+                    z2 += z * z, sz += (s[idx[k]] - ts) * z, bz += (b[idx[k]] - tb) * z;
+                }
+            const double slope = std::abs(sz) > 0 ? bz / sz : 1.0, icpt = tb - slope * ts, icptNo = tb - ts;
+            for (std::size_t k = lo; k < hi; ++k) {
+                const double rn = b[idx[k]] - icptNo - s[idx[k]], rf = b[idx[k]] - icpt - slope * s[idx[k]];
+                eNo += rn * rn, eFit += rf * rf;
+            }
+        }
+        out.heldoutNoLoss = std::sqrt(eNo / n);
+        out.heldoutFitted = std::sqrt(eFit / n);
+    }
     return out;
 }
 

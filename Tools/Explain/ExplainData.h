@@ -84,17 +84,30 @@ std::vector<double> smoothedRate(const std::vector<double>& t, const std::vector
 /// record), the median of the samples moving faster than that),
 /// load / reload (below the previous maximum strain) / unload otherwise; short pieces merged.
 std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::vector<double>& strain);
-/// The bottom plate's share of the piston stress on the first loading (the Load phases before the
-/// first unload): the least-squares line b = intercept + slope * s of the bottom stress b against the
-/// piston stress s over the samples at or above 30 % of that loading's largest piston stress. For a
-/// bed loaded from the top in a mould with wall friction (Janssen) the slope is exp(-4 mu_w K H/D)
-/// and the intercept the part of the bed's weight that reaches the bottom; without wall friction the
-/// slope is 1.
+/// The phases of a recording as pdpm-explain reports them: detectPhases, except that every creep step
+/// of the protocol (creepSamples: the recording's `step` column names a hold_stress step) is one Hold
+/// segment from its first sample to its last. A creep step moves the strain, fast at its start, so the
+/// strain rate alone calls its start a loading; it is a hold of the stress.
+std::vector<PhaseSegment> recordPhases(const Recording& rec, const Protocol& proto);
+/// The bottom plate's share of the piston stress on the first loading (its Load phases and the holds
+/// that follow a load, before the first unload), from the strain at which the loading passes 30 % of
+/// its largest piston stress on: the line b = intercept + slope * s of the bottom stress b against the
+/// piston stress s, the slope estimated with the strain as instrumental variable (cov(b, e)/cov(s, e),
+/// not biased by the piston stress's own noise). For a bed loaded from the top in a mould with wall
+/// friction (Janssen) the slope is exp(-4 mu_w K H/D) and the intercept the part of the bed's weight
+/// that reaches the bottom; without wall friction the slope is 1. Holds keep the transmission of the
+/// loading before them (the wall shear stays mobilised while the piston stands).
 struct Transmission {
     double slope = -1;     ///< -1: no bottom channel, or fewer than 5 such samples
     double intercept = 0;  ///< Pa
     double se = -1;        ///< standard error of the slope, the residuals' lag-1 autocorrelation allowed for
     int samples = 0;
+    double residualSd = 0;  ///< sd of b - intercept - slope * s (Pa)
+    double nEff = 0;        ///< effective number of samples, n (1 - r)/(1 + r)
+    /// blocked cross-validation (the samples cut into 4 contiguous parts, each predicted from the
+    /// other three): RMSE of the bottom stress with no loss (slope 1, intercept fitted) and with the
+    /// fitted line (Pa); -1 when not computed
+    double heldoutNoLoss = -1, heldoutFitted = -1;
 };
 Transmission loadingTransmission(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s,
                                  const std::vector<double>& b);

@@ -51,7 +51,7 @@ HoldFit fitOne(const Recording& rec, std::size_t b, std::size_t e, double widen)
 
 } // namespace
 
-HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples) {
+HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples, const std::vector<char>& creep) {
     HoldFitSummary s;
     rho = std::clamp(rho, 0.0, 0.99);
     const double widen = std::sqrt((1 + rho) / (1 - rho));  // AR(1): variance of a mean grows by this factor
@@ -59,7 +59,8 @@ HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples
     double lastStrain = 0;
     bool lastKept = false;
     for (const auto& ph : detectPhases(rec.t, rec.strain))
-        if (ph.phase == Phase::Hold && ph.end - ph.begin >= minSamples) {
+        if (ph.phase == Phase::Hold && ph.end - ph.begin >= minSamples &&
+            !(creep.size() == rec.size() && creep[ph.begin + (ph.end - ph.begin) / 2])) {
             // the phase detector smooths the strain rate, so a hold may be found a few samples early or
             // late; where the control channel is exactly constant (a stopped piston, recorded without
             // noise) the run of equal strain around the middle of the hold gives its true start and end

@@ -31,7 +31,9 @@ struct HoldFitSummary {
 /// Fits every hold phase with at least `minSamples` samples. `rho`: lag-1 autocorrelation of the
 /// noise's AR(1) part; the 95 % intervals (Jacobian, residual variance of the hold) are widened by
 /// sqrt((1 + rho)/(1 - rho)). With a given instrument noise level the explainer passes rho = 0.
-HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples = 20);
+/// `creep` (optional, one flag per sample, creepSamples of ExplainData.h): a hold whose middle sample
+/// lies in a creep step is skipped (the stress is held there, it has no decay to fit).
+HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples = 20, const std::vector<char>& creep = {});
 
 /// {"holds": [{t_start_s, t_end_s, stress_start_Pa, C, C_ci95, t0_s, t0_ci95, rmse_Pa, samples}],
 ///  "mean_C", "C_stress_exponent", "C_stress_exponent_se"}
