@@ -1058,17 +1058,22 @@ TEST(ExplainBottomSensor, DecidesBetweenWallFrictionAndItsLookAlike) {
 // The bottom sensor as a channel of wall_friction's likelihood: a benchmark wall-friction case at
 // peak SNR 1 (rho 0.5, seed 300007) that the piston stress alone leaves at no_missing_physics is
 // detected, wall_friction first, once the record has a bottom stress channel with Janssen's
-// transmission exp(-4 muK H/D) and noise of the piston's sd; a null case with a lossless sensor of
-// the same noise stays no_missing_physics.
+// transmission exp(-4 muK H/D) of the noise-free stress and noise of the piston's sd (independent of
+// the piston's noise); a null case with a lossless sensor of the same noise stays no_missing_physics.
 TEST(ExplainBottomSensor, SensorChannelEntersTheWallFrictionLikelihood) {
+    // the bottom channel: T times the same case made (nearly) noise-free, plus noise of its own
     const auto withSensor = [](const CaseSpec& spec, bool lossy, ExplainResult* plain) {
         GeneratedCase g;
         *plain = runCase(spec, &g);
+        CaseSpec quiet = spec;
+        quiet.snr = 1e9;
+        const GeneratedCase clean = generateCase(quiet);
+        EXPECT_EQ(clean.rec.strain, g.rec.strain) << "the same record";
         const double sd = g.truth.at("sigma_Pa").asNumber();
         const double T = lossy ? std::exp(-4 * g.truth.at("primary_value").asNumber() * g.proto.height / g.proto.diameter) : 1.0;
         std::mt19937_64 rng(spec.seed);
         std::normal_distribution<double> N(0, 1);
-        for (double s : g.rec.stress) g.rec.bottom.push_back(T * s + sd * N(rng));
+        for (double s : clean.rec.stress) g.rec.bottom.push_back(T * s + sd * N(rng));
         ExplainOptions opt;
         opt.figures = false;
         return pdpm::explain::explain(g.rec, g.proto, opt);
@@ -1511,11 +1516,17 @@ TEST(ExplainCreep, ACreepStepIsARelaxationHoldFromItsFirstSample) {
         if (m.comp == kRelaxation) relax = &m;
     ASSERT_NE(relax, nullptr) << r.summary;
     EXPECT_NEAR(relax->value[0], 0.06, 0.006) << r.summary;
+    int creepWindows = 0;
     for (const Window& w : r.windows) {
-        if (creep[w.begin]) {
+        bool any = false, all = true;
+        for (std::size_t i = w.begin; i < w.end; ++i) any = any || creep[i], all = all && creep[i];
+        if (any) {
+            ++creepWindows;
+            EXPECT_TRUE(all) << "a window reaches out of a creep step: " << w.tStart << ".." << w.tEnd;
             EXPECT_EQ(w.phase, "hold") << w.tStart << ".." << w.tEnd;
         }
     }
+    EXPECT_GE(creepWindows, 2) << "both creep steps are reported";
     // the per-hold fits of Eq. 4.3 take the strain hold only (the creep steps hold the stress)
     EXPECT_EQ(relax->perHold.holds.size(), 1u);
     const ExplainResult q = pdpm::explain::explain(plain, proto, opt);

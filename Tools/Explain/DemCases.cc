@@ -283,6 +283,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
     std::vector<CaseScore> scores(jobs.size());
     std::vector<std::string> errors(jobs.size()), firstFound(jobs.size()), sensor(jobs.size(), "-");
     std::vector<double> pFound(jobs.size(), -1), pTrue(jobs.size(), -1), pIdent(jobs.size(), -1), cIntrinsic(jobs.size(), -1);
+    std::vector<double> pPiston(jobs.size(), -1);  // wall_friction: the piston-stress term's muK
 #pragma omp parallel for schedule(dynamic, 1)
     for (long pair = 0; pair < static_cast<long>(jobs.size() / 2); ++pair)
         for (std::size_t i = 2 * static_cast<std::size_t>(pair); i < 2 * static_cast<std::size_t>(pair) + 2; ++i) {
@@ -310,7 +311,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
                 // term's muK stands for the Janssen product only where the loading curve is not free)
                 for (const Json& m : ms)
                     if (m.at("name").asString() == j.spec.family) {
-                        pFound[i] = m.at("parameters").at(primary).at("value").asNumber();
+                        pFound[i] = pPiston[i] = m.at("parameters").at(primary).at("value").asNumber();
                         if (const Json* sm = m.find("muK_from_bottom_sensor")) pFound[i] = sm->at("value").asNumber();
                     }
                 if (truth.has("intrinsic_macroscopic_C")) cIntrinsic[i] = truth.at("intrinsic_macroscopic_C").asNumber();
@@ -344,7 +345,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             if (jobs[i].spec.family != family) continue;
             const CaseScore& c = scores[i];
             rows << "| " << jobs[i].name << " | " << c.rho << " | " << c.verdict << " | " << firstFound[i] << " | ";
-            if (c.positive) rows << c.iou << " | " << pFound[i] << " | " << pTrue[i] << " | " << pIdent[i];
+            if (c.positive) rows << c.iou << " | " << pFound[i] << " | " << pTrue[i] << " | " << (wall ? pPiston[i] : pIdent[i]);
             else rows << "- | " << pFound[i] << " | - | -";
             if (wall) rows << " | " << sensor[i] << " |\n";
             else rows << " | " << cIntrinsic[i] << " |\n";
@@ -379,7 +380,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
         if (wall) {
             md << "| muK (the bottom sensor's where it has one) within 25 % of Janssen's mu_w K of the noise-free record (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN)
                << " |\n\n";
-            md << "| case | rho | verdict | first mechanism | IoU | muK found (the bottom sensor's where it has one) | Janssen mu_w K | (same) | bottom sensor says |\n";
+            md << "| case | rho | verdict | first mechanism | IoU | muK found (the bottom sensor's where it has one) | Janssen mu_w K | piston term's muK | bottom sensor says |\n";
         } else {
             md << "| C within 25 % of the contact C (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN) << " |\n";
             md << "| C within 25 % of the record's macroscopic C (mean Eq. 4.3 fit of the noise-free holds) | - | "

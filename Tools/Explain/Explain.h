@@ -100,9 +100,6 @@ struct BottomSensor {
     /// wall_friction's dBIC (with one parameter, ln n_eff of the channel) in explain()
     double chi2 = 0;
 };
-/// Smallest share of the piston stress lost to the walls on loading that the bottom sensor reports
-/// as wall friction (a 3 % gain mismatch between two load cells is within a lab's calibration).
-inline constexpr double kMinWallLoss = 0.03;
 BottomSensor readBottomSensor(const Recording& rec, const Protocol& proto);
 
 struct ExplainResult {

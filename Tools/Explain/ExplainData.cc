@@ -309,6 +309,9 @@ Transmission loadingTransmission(const std::vector<double>& t, const std::vector
     // where the loading passes 30 % of its top, judged on the piston stress smoothed within each Load
     // phase (a centred moving average of up to 21 samples), so that the cut is a strain and no
     // sample is kept or dropped for its own noise
+    // (the window shrinks to the raw sample at a ramp's ends: ramps of a few samples between long
+    // holds, as in the DEM-made records, would otherwise lose their crossing sample and the cut would
+    // move past the first hold; one sample's noise moves the 30 % level by a negligible amount)
     std::vector<double> sm(s.size(), std::nan(""));
     double top = 0;
     for (auto [lo, hi] : loads)
@@ -323,7 +326,7 @@ Transmission loadingTransmission(const std::vector<double>& t, const std::vector
     double eCut = std::numeric_limits<double>::infinity();
     for (auto [lo, hi] : loads)
         for (std::size_t i = lo; i < hi && !(eCut < std::numeric_limits<double>::infinity()); ++i)
-            if (top > 0 && sm[i] >= 0.3 * top) eCut = e[i];
+            if (top > 0 && std::isfinite(sm[i]) && sm[i] >= 0.3 * top) eCut = e[i];
     std::vector<std::size_t> idx;
     for (std::size_t i : first)
         if (e[i] >= eCut && std::isfinite(b[i]) && std::isfinite(s[i])) idx.push_back(i);
@@ -350,7 +353,7 @@ Transmission loadingTransmission(const std::vector<double>& t, const std::vector
     for (std::size_t k = 0; k < idx.size(); ++k) {
         const double r = b[idx[k]] - out.intercept - out.slope * s[idx[k]];
         ss += r * r;
-        if (k > 0) s01 += r * prev;
+        if (k > 0 && idx[k] == idx[k - 1] + 1) s01 += r * prev;  // adjacent samples only
         prev = r;
     }
     const double rho = ss > 0 ? std::clamp(s01 / ss, 0.0, 0.99) : 0.0;
@@ -374,9 +377,10 @@ Transmission loadingTransmission(const std::vector<double>& t, const std::vector
                     const double z = e[idx[k]] - te;
                     z2 += z * z, sz += (s[idx[k]] - ts) * z, bz += (b[idx[k]] - tb) * z;
                 }
-            const double slope = std::abs(sz) > 0 ? bz / sz : 1.0, icpt = tb - slope * ts, icptNo = tb - ts;
+            const double slope = std::abs(sz) > 0 ? bz / sz : 1.0, icpt = tb - slope * ts;
+            const double slopeNo = std::clamp(slope, 1 - kMinWallLoss, 1.0), icptNo = tb - slopeNo * ts;
             for (std::size_t k = lo; k < hi; ++k) {
-                const double rn = b[idx[k]] - icptNo - s[idx[k]], rf = b[idx[k]] - icpt - slope * s[idx[k]];
+                const double rn = b[idx[k]] - icptNo - slopeNo * s[idx[k]], rf = b[idx[k]] - icpt - slope * s[idx[k]];
                 eNo += rn * rn, eFit += rf * rf;
             }
         }

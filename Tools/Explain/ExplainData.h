@@ -97,6 +97,9 @@ std::vector<PhaseSegment> recordPhases(const Recording& rec, const Protocol& pro
 /// friction (Janssen) the slope is exp(-4 mu_w K H/D) and the intercept the part of the bed's weight
 /// that reaches the bottom; without wall friction the slope is 1. Holds keep the transmission of the
 /// loading before them (the wall shear stays mobilised while the piston stands).
+/// Smallest share of the piston stress lost to the walls on loading that the bottom sensor reports
+/// as wall friction (a 3 % gain mismatch between two load cells is within a lab's calibration).
+inline constexpr double kMinWallLoss = 0.03;
 struct Transmission {
     double slope = -1;     ///< -1: no bottom channel, or fewer than 5 such samples
     double intercept = 0;  ///< Pa
@@ -105,8 +108,9 @@ struct Transmission {
     double residualSd = 0;  ///< sd of b - intercept - slope * s (Pa)
     double nEff = 0;        ///< effective number of samples, n (1 - r)/(1 + r)
     /// blocked cross-validation (the samples cut into 4 contiguous parts, each predicted from the
-    /// other three): RMSE of the bottom stress with no loss (slope 1, intercept fitted) and with the
-    /// fitted line (Pa); -1 when not computed
+    /// other three): RMSE of the bottom stress with no loss (the slope fitted on the other parts,
+    /// clamped into the no-loss band [1 - kMinWallLoss, 1]; intercept fitted) and with the fitted
+    /// line (Pa); -1 when not computed
     double heldoutNoLoss = -1, heldoutFitted = -1;
 };
 Transmission loadingTransmission(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s,
