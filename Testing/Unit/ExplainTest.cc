@@ -1533,6 +1533,38 @@ TEST(ExplainCreep, ACreepStepIsARelaxationHoldFromItsFirstSample) {
     EXPECT_LT(r.rmseAugmented, q.rmseAugmented) << "with the creep steps known the fit must be better";
 }
 
+// The free loading curve (loading_curve) is a function of strain: a kink of it exactly where a creep
+// step begins would let a plateau of the curve stand in for the strain crept at constant stress. A
+// virgin creep step therefore gets its knot where it ends, never where it begins; without the step
+// column (the strain-rate phases alone) the knot rule is the old one.
+TEST(ExplainCreep, LoadingCurveKnotsSitAtTheEndOfACreepStep) {
+    auto [rec, proto] = surrogateCreepRecord(0.06, 0.5, 150);
+    const ModelInput in = makeModelInput(rec, proto);
+    ASSERT_EQ(in.creep.size(), rec.size());
+    const Model m(in);
+    const std::vector<double>& k = m.knotStrains();
+    auto hasKnot = [&](double e) {
+        for (double x : k)
+            if (std::abs(x - e) <= 1e-12 * std::max(1.0, std::abs(e))) return true;
+        return false;
+    };
+    double emax = -1e300;
+    int virginCreeps = 0;
+    for (std::size_t i = 0; i < rec.size(); ++i) {
+        const bool starts = in.creep[i] && (i == 0 || !in.creep[i - 1]);
+        const bool ends = in.creep[i] && (i + 1 == rec.size() || !in.creep[i + 1]);
+        if (starts && rec.strain[i] >= emax) {
+            ++virginCreeps;
+            EXPECT_FALSE(hasKnot(rec.strain[i])) << "a knot where creep step at sample " << i << " begins";
+        }
+        emax = std::max(emax, rec.strain[i]);
+        if (ends && rec.strain[i] >= emax) {
+            EXPECT_TRUE(hasKnot(rec.strain[i])) << "no knot where the creep step ending at sample " << i << " ends";
+        }
+    }
+    EXPECT_EQ(virginCreeps, 2);
+}
+
 // The step column is checked against the protocol: an index beyond its steps is refused (exit 2).
 TEST(ExplainCreep, StepColumnOutsideTheProtocolIsRefused) {
     const pdpm::testing::TempDir d;

@@ -233,3 +233,39 @@ TEST(MicroMacro, CsvColumnsAndRoundTrip) {
     EXPECT_EQ(again.rows(), 1u);
     std::filesystem::remove(path);
 }
+
+// The fluctuation kinetic energy removes exactly the homogeneous flow of the moving axes (and a
+// drift of the whole packing); what is left is the energy of the added random velocities.
+TEST(MicroMacro, FluctuationKineticEnergyRemovesTheAffineFlow) {
+    ParticleData P;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> pos(-1.0, 3.0), dv(-0.01, 0.01);
+    const Vec3 centre{1, 1, 1}, rate{0.0, 0.0, -52.68};
+    const Vec3 drift{0.3, -0.1, 0.2};
+    std::vector<Vec3> noise;
+    for (int i = 0; i < 200; ++i) {
+        const Vec3 x{pos(rng), pos(rng), pos(rng)};
+        Vec3 u{dv(rng), dv(rng), dv(rng)};
+        noise.push_back(u);
+        const Vec3 v = drift + Vec3{0, 0, rate.z * (x.z - centre.z)} + u;
+        P.add(x, 0.01 + 0.001 * (i % 5), 2000, 0, v);
+    }
+    // expected: the noise about its own mass-weighted mean
+    double M = 0;
+    Vec3 mom{};
+    for (std::size_t i = 0; i < P.size(); ++i) { M += P.m[i]; mom = mom + P.m[i] * noise[i]; }
+    const Vec3 mean = (1.0 / M) * mom;
+    double expected = 0;
+    for (std::size_t i = 0; i < P.size(); ++i) expected += 0.5 * P.m[i] * norm2(noise[i] - mean);
+    const double got = fluctuationKineticEnergy(P, rate, centre, {false, false, true});
+    EXPECT_NEAR(got, expected, 1e-9 * expected);
+    // without the flow axis the affine flow counts as kinetic energy (it is far larger)
+    EXPECT_GT(fluctuationKineticEnergy(P, rate, centre, {false, false, false}), 100 * expected);
+    // the ratio column is filled only when the energy is given
+    MacroInput in;
+    in.volume = 1.0;
+    in.elasticEnergy = 2 * got;
+    EXPECT_EQ(computeMacro(P, {}, in).ekFluctOverEp, 0.0);
+    in.fluctuationKineticEnergy = got;
+    EXPECT_NEAR(computeMacro(P, {}, in).ekFluctOverEp, 0.5, 1e-15);
+}

@@ -39,6 +39,34 @@ double macroscopicC(const std::string& protocolPath) {
     return n > 0 ? sum / n : -1;
 }
 
+/// Stress a baseline without relaxation gets wrong in the creep steps of a driver record, per sample:
+/// the loading tangent before the step (secant over the top 20 % of the preceding step's stress)
+/// times the strain crept since the step began; 0 outside creep steps.
+std::vector<double> creepEffect(const Recording& r, const Protocol& p) {
+    std::vector<double> eff(r.t.size(), 0.0);
+    if (r.step.size() != r.t.size()) return eff;
+    std::size_t start = 0;
+    double tangent = 0;
+    for (std::size_t i = 0; i < r.t.size(); ++i) {
+        const auto k = static_cast<std::size_t>(r.step[i]);
+        if (k >= p.steps.size() || p.steps[k].type != StepType::Creep) continue;
+        if (i == 0 || r.step[i - 1] != r.step[i]) {
+            start = i;
+            tangent = 0;
+            if (i >= 2) {
+                std::size_t j = i - 1;
+                const double top = r.stress[i - 1];
+                while (j > 0 && r.step[j - 1] == r.step[i - 1] && r.stress[j - 1] > 0.8 * top) --j;
+                if (j > 0 && r.step[j - 1] == r.step[i - 1]) --j;
+                const double de = r.strain[i - 1] - r.strain[j];
+                if (de > 0) tangent = (r.stress[i - 1] - r.stress[j]) / de;
+            }
+        }
+        eff[i] = tangent * (r.strain[i] - r.strain[start]);
+    }
+    return eff;
+}
+
 } // namespace
 
 void checkDemCaseFamily(const std::string& f, const std::string& what) {
@@ -54,7 +82,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     checkDemCaseFamily(family, "dem-case: --family");
     if (spec.kind != "null" && spec.kind != family)
         inputError("dem-case: a " + spec.kind + " case cannot belong to the " + family + " family");
-    const bool wall = family == "wall_friction";
+    const bool wall = family == "wall_friction", creep = family == "creep";
     if (spec.bottomSensor && !wall) inputError("dem-case: a bottom stress sensor belongs to the wall_friction family");
     if (!(spec.snr > 0)) inputError("dem-case: --snr must be positive");
     const bool positive = spec.kind != "null";
@@ -62,12 +90,14 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     std::uniform_real_distribution<double> U(0, 1);
     auto uni = [&](double a, double b) { return a + (b - a) * U(rng); };
 
-    // protocol: three ramps with holds, a partial unload, a reload and a shorter last hold
+    // protocol: three ramps with holds, a partial unload, a reload and a shorter last hold (creep:
+    // every hold at constant stress)
     const double v = 5e-5, hold = uni(60, 240), s1 = uni(4e3, 7e3), su = uni(0.2, 0.5) * 3 * s1;
+    const std::string H = creep ? ",creep:" : ",hold:";
     std::ostringstream steps;
-    steps << "ramp:" << fmt(v) << ':' << fmt(s1) << ",hold:" << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(2 * s1)
-          << ",hold:" << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << ",hold:" << fmt(hold) << ",unload:" << fmt(v)
-          << ':' << fmt(su) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << ",hold:" << fmt(0.5 * hold);
+    steps << "ramp:" << fmt(v) << ':' << fmt(s1) << H << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(2 * s1) << H
+          << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(hold) << ",unload:" << fmt(v) << ':' << fmt(su)
+          << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(0.5 * hold);
     const double C = uni(0.02, 0.08), t0 = std::pow(10.0, uni(-1, std::log10(2.0)));
     const double muW = wall ? uni(0.15, 0.45) : 0.0;  // only in the wall family: the relaxation family's draws stay as they were
     // the wall_friction family's mould (H/D = 1)
@@ -113,6 +143,10 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     const auto [with, protoWith] = run("with", wall ? muW : C);
     const auto [without, protoWithout] = run("without", 0.0);
     const Recording& shown = positive ? with : without;
+    // the effect of each run on its own samples (creep: tangent x creep strain; else the stress)
+    const std::vector<double> effWith = creep ? creepEffect(with, protoWith) : with.stress;
+    const std::vector<double> effWithout = creep ? creepEffect(without, protoWithout) : without.stress;
+    if (creep && (shown.step.size() != shown.t.size())) inputError("dem-case: the DEM record has no step column");
 
     // the record shown to the explainer on a uniform lab-time grid; the effect on the same grid
     GeneratedCase g;
@@ -130,9 +164,13 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         R.t.push_back(t - shown.t.front());
         R.strain.push_back(std::round(at(shown.t, shown.strain, t) / 1e-7) * 1e-7);
         y[static_cast<std::size_t>(i)] = at(shown.t, shown.stress, t);
+        if (creep) {  // the step of the last DEM sample at or before t
+            const auto k = static_cast<std::size_t>(std::upper_bound(shown.t.begin(), shown.t.end(), t) - shown.t.begin());
+            R.step.push_back(shown.step[k > 0 ? k - 1 : 0]);
+        }
         // the effect on the "with" record's grid, so that a case and its twin share it
         const double tw = with.t.front() + Tw * i / (n - 1);
-        effect[static_cast<std::size_t>(i)] = at(with.t, with.stress, tw) - at(without.t, without.stress, tw);
+        effect[static_cast<std::size_t>(i)] = at(with.t, effWith, tw) - at(without.t, effWithout, tw);
     }
     double smax = 0, peak = 0, e2 = 0;
     for (int i = 0; i < n; ++i) {
@@ -173,12 +211,14 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     Json tr = Json::object();
     tr.set("kind", spec.kind);
     tr.set("source", "dem");
-    tr.set("mechanisms", positive ? Json::array({Json(spec.kind)}) : Json::array());
+    tr.set("mechanisms", positive ? Json::array({Json(demFamilyMechanism(spec.kind))}) : Json::array());
     tr.set("out_of_library", false);
     tr.set("family", family);
     if (wall) {
         tr.set("null_twin_of_mu_w", positive ? Json() : Json(muW));
         tr.set("bottom_sensor", spec.bottomSensor);
+    } else if (creep) {
+        tr.set("null_twin_of_contact_C", positive ? Json() : Json(C));
     } else {
         tr.set("null_twin_of_contact_C", positive ? Json() : Json(C));
         // the bed's own hold relaxation (rearrangements, damping), present in both runs
@@ -199,9 +239,11 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         tr.set("primary_parameter", "C");
         tr.set("primary_value", C);
         tr.set("primary_off", 0.0);
-        tr.set("primary_value_identifiable", macroscopicC(workDir + "/with.protocol.json"));
-        tr.set("primary_identifiable_definition",
-               "macroscopic C of the noise-free DEM record: mean Eq. 4.3 fit of its holds (rearrangements make it smaller than the contact C)");
+        if (!creep) {
+            tr.set("primary_value_identifiable", macroscopicC(workDir + "/with.protocol.json"));
+            tr.set("primary_identifiable_definition",
+                   "macroscopic C of the noise-free DEM record: mean Eq. 4.3 fit of its holds (rearrangements make it smaller than the contact C)");
+        }
     }
     tr.set("parameters", tp);
     tr.set("baseline_and_nuisances", Json::object({{"offset", offset}, {"drift_rate", drift}, {"bottom_offset", bottomOffset}}));
@@ -216,7 +258,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     tr.set("protocol_steps", steps.str());
     Json wj = Json::array();
     if (positive) {
-        const auto phases = detectPhases(R.t, R.strain);
+        const auto phases = creep ? recordPhases(R, g.proto) : detectPhases(R.t, R.strain);
         std::vector<double> en(phases.size(), 0.0);
         for (std::size_t k = 0; k < phases.size(); ++k)
             for (std::size_t i = phases[k].begin; i < phases[k].end; ++i) en[k] += effect[i] * effect[i];
@@ -226,7 +268,8 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     }
     tr.set("windows", wj);
     tr.set("windows_definition",
-           "protocol phases carrying at least 30 % of the largest phase's energy of the raw effect (DEM with minus DEM without the mechanism) and 5 % of the total");
+           std::string("protocol phases carrying at least 30 % of the largest phase's energy of the raw effect (DEM with minus DEM without the mechanism) and 5 % of the total") +
+               (creep ? "; creep: the effect is the loading tangent before each creep step times the strain crept so far, the phases those of the explainer (every creep step one hold)" : ""));
     g.truth = tr;
     // the poured bed's own first loading (including its small collapses), its reloads and its plastic
     // unloading are the DEM's baseline, not missing physics: a free loading curve and plasticity (the
@@ -249,7 +292,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
     std::vector<Job> jobs;
     for (const std::string& family : families) {
         // the relaxation family keeps its seeds and names; the wall family counts on from its own base
-        unsigned long s = family == "contact_relaxation" ? seed * 1000 : seed * 1000 + 500;
+        unsigned long s = family == "contact_relaxation" ? seed * 1000 : family == "wall_friction" ? seed * 1000 + 500 : seed * 1000 + 700;
         const std::string tag = family == "contact_relaxation" ? "" : family + "_";
         auto add = [&](const std::string& kind, double snr, std::size_t si, int k) {
             Job j;
@@ -307,10 +350,11 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
                 const auto& ms = rep.at("mechanisms").asArray();
                 firstFound[i] = ms.empty() ? rep.at("verdict").asString() : ms.front().at("name").asString();
                 const std::string primary = j.spec.family == "wall_friction" ? "muK" : "C";
+                const std::string mechanism = demFamilyMechanism(j.spec.family);
                 // wall_friction: the bottom sensor's Janssen estimate where the report has one (the piston
                 // term's muK stands for the Janssen product only where the loading curve is not free)
                 for (const Json& m : ms)
-                    if (m.at("name").asString() == j.spec.family) {
+                    if (m.at("name").asString() == mechanism) {
                         pFound[i] = pPiston[i] = m.at("parameters").at(primary).at("value").asNumber();
                         if (const Json* sm = m.find("muK_from_bottom_sensor")) pFound[i] = sm->at("value").asNumber();
                     }
@@ -333,7 +377,9 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
        << "adhesion; Tools/Explain/DemCases.h), " << samples << " samples each, AR(1) noise, quantisation, offset and drift. "
        << "contact_relaxation: periodic bed, baseline (MODEL.json) stiffness_nonlinearity, plasticity and a free loading curve "
        << "(loading_curve), the bed's own behaviour. wall_friction: a 30 mm mould (H/D 1) with elastic contacts, baseline "
-       << "stiffness_nonlinearity and loading_curve; every second pair with a noisy bottom stress sensor. Each null case is its "
+       << "stiffness_nonlinearity and loading_curve; every second pair with a noisy bottom stress sensor. creep: the "
+       << "contact_relaxation family's bed, baseline and draws with every hold a creep step at constant stress (the effect: the "
+       << "loading tangent before a step times the strain crept). Each null case is its "
        << "positive twin's bed, protocol and noise without the mechanism (noise sd = the twin's peak effect / SNR).\n\n";
     for (const std::string& family : families) {
         const bool wall = family == "wall_friction";
@@ -383,8 +429,10 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             md << "| case | rho | verdict | first mechanism | IoU | muK found (the bottom sensor's where it has one) | Janssen mu_w K | piston term's muK | bottom sensor says |\n";
         } else {
             md << "| C within 25 % of the contact C (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN) << " |\n";
-            md << "| C within 25 % of the record's macroscopic C (mean Eq. 4.3 fit of the noise-free holds) | - | "
-               << countShare(parIdentOk, parN) << " |\n\n";
+            if (family == "creep") md << "\n";  // no position holds: no macroscopic C
+            else
+                md << "| C within 25 % of the record's macroscopic C (mean Eq. 4.3 fit of the noise-free holds) | - | "
+                   << countShare(parIdentOk, parN) << " |\n\n";
             md << "| case | rho | verdict | first mechanism | IoU | C found | contact C | macroscopic C | bed's own C (without contact relaxation) |\n";
         }
         md << "|---|---|---|---|---|---|---|---|---|\n" << rows.str() << "\n";

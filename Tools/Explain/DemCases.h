@@ -24,6 +24,16 @@
 // bottom stress with its own offset, AR(1) noise of the same sd and quantisation. MODEL.json:
 // stiffness_nonlinearity and a free loading curve (the elastic bed's own first loading).
 //
+// Creep (family creep): the relaxation family's protocol and draws with every hold a creep step at
+// constant stress (creep:T, the piston keeping the stress reached), so contact relaxation shows as
+// strain growing at constant stress, not as stress decay. The truth's mechanism is contact_relaxation;
+// the shown record carries the driver's `step` column (which tells the explainer the creep steps).
+// The effect is what a baseline without relaxation gets wrong at the recorded strain: in a creep step,
+// the loading tangent before the step (top 20 % of the preceding ramp's stress) times the strain crept
+// so far, "with" minus "without" at the same lab time of the step (the stress sags a little in both
+// runs while the piston follows; the driver's controller). No macroscopic C (Eq. 4.3 needs a
+// position hold).
+//
 // Positive: contact C in [0.02, 0.08], t0 in [0.1, 2] s. The truth's primary value is the contact C;
 // `primary_value_identifiable` is the macroscopic C of the noise-free "with" record (the mean Eq. 4.3
 // fit of its holds, which the bed's rearrangements make smaller than the contact C). Windows: the
@@ -38,15 +48,15 @@
 namespace pdpm::explain {
 
 struct DemCaseSpec {
-    std::string kind = "null";  ///< null | contact_relaxation | wall_friction
+    std::string kind = "null";  ///< null | contact_relaxation | wall_friction | creep
     double snr = 3, rho = 0.5;
     unsigned long seed = 1;
     int samples = 2000;
     std::string driver;      ///< OedometerRelaxation executable (empty: next to this program)
     std::string driverArgs;  ///< appended to every driver command (e.g. a smaller bed for tests)
     int threads = 1;
-    /// the mechanism of the pair (a null case is the twin without it): contact_relaxation or
-    /// wall_friction; empty: the kind (contact_relaxation for a null)
+    /// the family of the pair (a null case is the twin without its mechanism): contact_relaxation,
+    /// wall_friction or creep; empty: the kind (contact_relaxation for a null)
     std::string family = "";
     bool bottomSensor = false;  ///< wall_friction family: the record also has a noisy bottom_stress_Pa
 };
@@ -54,12 +64,14 @@ struct DemCaseSpec {
 /// Runs the DEM (its files go to workDir) and returns the case; `model` receives the case's MODEL.json.
 GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDir, Json& model);
 
-/// The families of DEM-made cases: the mechanism a positive case of the family carries.
-inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction"};
-/// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction)" unless `f` is a family.
+/// The families of DEM-made cases.
+inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction", "creep"};
+/// The mechanism a positive case of family `f` carries (creep: contact_relaxation; else f itself).
+inline std::string demFamilyMechanism(const std::string& f) { return f == "creep" ? "contact_relaxation" : f; }
+/// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction, creep)" unless `f` is a family.
 void checkDemCaseFamily(const std::string& f, const std::string& what);
 
-/// The DEM-made part of the blind benchmark: for each family (contact_relaxation, wall_friction),
+/// The DEM-made part of the blind benchmark: for each family (contact_relaxation, wall_friction, creep),
 /// `perSnr` positive cases at each SNR, each with its null twin (AR(1) rho cycled over 0, 0.5, 0.9;
 /// wall_friction: every second pair with a bottom stress sensor), generated (out/dem_runs),
 /// explained with each case's MODEL.json (out/cases, out/reports; the explainer sees only the case

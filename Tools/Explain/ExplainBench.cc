@@ -315,11 +315,14 @@ GeneratedCase generateCase(const CaseSpec& spec) {
 void writeRecordingCsv(const Recording& r, const std::string& path, const std::vector<std::string>& comments) {
     std::ostringstream os;
     for (const auto& c : comments) os << "# " << c << "\n";
-    os << "time_s,axial_strain,axial_stress_Pa" << (r.lateral.empty() ? "" : ",lateral_stress_Pa")
+    const bool step = r.step.size() == r.t.size() && !r.t.empty();
+    os << "time_s," << (step ? "step," : "") << "axial_strain,axial_stress_Pa" << (r.lateral.empty() ? "" : ",lateral_stress_Pa")
        << (r.bottom.empty() ? "" : ",bottom_stress_Pa") << "\n";
     os << std::setprecision(12);
     for (std::size_t i = 0; i < r.t.size(); ++i) {
-        os << r.t[i] << ',' << r.strain[i] << ',' << r.stress[i];
+        os << r.t[i] << ',';
+        if (step) os << r.step[i] << ',';
+        os << r.strain[i] << ',' << r.stress[i];
         if (!r.lateral.empty()) os << ',' << r.lateral[i];
         if (!r.bottom.empty()) os << ',' << r.bottom[i];
         os << '\n';

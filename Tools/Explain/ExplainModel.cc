@@ -47,8 +47,8 @@ ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
     // a creep step (constant stress) is a hold of the relaxation term from its first sample: the
     // strain it creeps is what keeps the stress up while the contacts relax (the stress rate is
     // zero, the strain rate is not, so the strain-rate phases call its start a loading)
-    const std::vector<char> creep = creepSamples(rec, proto);
-    for (std::size_t i = 0; i < n; ++i) in.hold[i] = in.hold[i] || creep[i];
+    in.creep = creepSamples(rec, proto);
+    for (std::size_t i = 0; i < n; ++i) in.hold[i] = in.hold[i] || in.creep[i];
     in.height = proto.height;
     in.diameter = proto.diameter;
     const auto [lo, hi] = std::minmax_element(rec.strain.begin(), rec.strain.end());
@@ -82,14 +82,21 @@ Model::Model(const ModelInput& in) : in_(in) {
         {"n", "-", kNonlinearity, 0.2, 4, 1, 0.1, false},
     };
     // loading_curve knots: every virgin hold strain (where the stress level of a hold is set), the
-    // largest strain, and fill-in knots so that no gap exceeds epsRange/8
+    // largest strain, and fill-in knots so that no gap exceeds epsRange/8. A virgin creep step gets
+    // its knot where it ends, not where it begins: the strain it creeps is time-dependent
+    // deformation, and a kink of the skeleton curve exactly at its start would let a plateau of the
+    // curve stand in for it (the curve is a function of strain only).
     std::vector<double> ks;
     {
         double emax = -std::numeric_limits<double>::infinity();
         bool inHold = false;
+        const bool anyCreep = in.creep.size() == in.eps.size();
         for (std::size_t i = 0; i < in.eps.size(); ++i) {
+            const bool isCreep = anyCreep && in.creep[i];
             const bool virginHold = in.hold[i] && in.eps[i] >= emax - 1e-9 * in.epsRange;
-            if (virginHold && !inHold) ks.push_back(in.eps[i]);
+            if (virginHold && !inHold && !isCreep) ks.push_back(in.eps[i]);
+            const bool creepEnds = isCreep && (i + 1 == in.eps.size() || !in.creep[i + 1]);
+            if (creepEnds && in.eps[i] >= emax - 1e-9 * in.epsRange) ks.push_back(in.eps[i]);
             inHold = in.hold[i];
             emax = std::max(emax, in.eps[i]);
         }

@@ -79,6 +79,7 @@ struct ParDef {
 struct ModelInput {
     std::vector<double> t, eps, rate;
     std::vector<char> hold;   ///< 1 where the control channel holds
+    std::vector<char> creep;  ///< 1 in the creep steps (constant stress) of the protocol (also hold)
     double height = 0.06, diameter = 0.149;
     double epsRange = 1, epsMin = 0, stressMax = 1, duration = 1;
 };

@@ -159,7 +159,35 @@ MacroResult computeMacro(const ParticleData& P, const std::vector<ContactRecord>
     }
     r.mobilisation = mobCount ? mob / static_cast<double>(mobCount) : 0.0;
     r.ekOverEp = in.elasticEnergy > 0 ? in.kineticEnergy / in.elasticEnergy : 0.0;
+    r.ekFluctOverEp = in.elasticEnergy > 0 && in.fluctuationKineticEnergy >= 0
+                          ? in.fluctuationKineticEnergy / in.elasticEnergy
+                          : 0.0;
     return r;
+}
+
+double fluctuationKineticEnergy(const ParticleData& P, const Vec3& rate, const Vec3& centre,
+                                const std::array<bool, 3>& flowAxis) {
+    const std::size_t n = P.size();
+    auto rel = [&](std::size_t i) {
+        Vec3 u = P.v[i];
+        for (int a = 0; a < 3; ++a)
+            if (flowAxis[static_cast<std::size_t>(a)]) u[a] -= rate[a] * (P.x[i][a] - centre[a]);
+        return u;
+    };
+    double mass = 0;
+    Vec3 mom{};
+    for (std::size_t i = 0; i < n; ++i) {
+        mass += P.m[i];
+        mom = mom + P.m[i] * rel(i);
+    }
+    if (!(mass > 0)) return 0.0;
+    const Vec3 mean = (1.0 / mass) * mom;
+    double e = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 u = rel(i) - mean;
+        e += 0.5 * P.m[i] * dot(u, u);
+    }
+    return e;
 }
 
 namespace {
@@ -186,7 +214,8 @@ const std::vector<std::string>& macroColumns() {
         addSummaryColumns(c, "fab");
         addSummaryColumns(c, "fab_strong");
         addSummaryColumns(c, "fab_weak");
-        for (const char* s : {"weak_fraction", "f_wsl", "f_wst", "f_ssl", "f_sst", "mobilisation", "Ek", "Ep"})
+        for (const char* s : {"weak_fraction", "f_wsl", "f_wst", "f_ssl", "f_sst", "mobilisation", "Ek", "Ep",
+                              "Ek_fluct_over_Ep"})
             c.push_back(s);
         return c;
     }();
@@ -209,7 +238,8 @@ std::vector<double> macroRow(const MacroResult& r, const MacroInput& in) {
     addSummaryValues(v, r.fabricAll);
     addSummaryValues(v, r.fabricStrong);
     addSummaryValues(v, r.fabricWeak);
-    v.insert(v.end(), {r.weakFraction, r.wsl, r.wst, r.ssl, r.sst, r.mobilisation, in.kineticEnergy, in.elasticEnergy});
+    v.insert(v.end(), {r.weakFraction, r.wsl, r.wst, r.ssl, r.sst, r.mobilisation, in.kineticEnergy, in.elasticEnergy,
+                      r.ekFluctOverEp});
     return v;
 }
 

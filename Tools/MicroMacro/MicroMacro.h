@@ -14,6 +14,7 @@
 // thesis). Deviatoric magnitudes use the eigenvalues (objective form, Eq. 3.14/3.18 = sqrt(3 J2)).
 #pragma once
 #include <Eigen/Dense>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,9 @@ struct MacroInput {
     double epsDev = 0;         ///< Eq. (2.4) of the true strains
     double kineticEnergy = 0;  ///< translational + rotational (J)
     double elasticEnergy = 0;  ///< J
+    /// translational energy of the velocities relative to the box's affine flow plus the rotational
+    /// energy (J; see fluctuationKineticEnergy); < 0: not given (Ek_fluct_over_Ep is then 0)
+    double fluctuationKineticEnergy = -1;
 };
 
 struct MacroResult {
@@ -62,6 +66,7 @@ struct MacroResult {
     double wsl = 0, wst = 0, ssl = 0, sst = 0;  ///< fractions of all contacts (Sec. 3.4.4)
     double mobilisation = 0;              ///< mean |f_t| / (mu f_n) over contacts with f_n > 0
     double ekOverEp = 0;
+    double ekFluctOverEp = 0;  ///< MacroInput::fluctuationKineticEnergy / elastic energy
 };
 
 /// Contacts with fewer than this many contacts make a particle a rattler (Sec. 2.4.1).
@@ -69,6 +74,15 @@ inline constexpr int kRattlerContacts = 4;
 
 MacroResult computeMacro(const ParticleData& particles, const std::vector<ContactRecord>& contacts,
                          const MacroInput& in);
+
+/// Translational kinetic energy of the particles' motion relative to a homogeneous (affine) flow
+/// u_a(x) = rate[a] (x_a - c_a) along the axes with flowAxis[a] (J): sum of m |v - u(x) - <v - u>|^2 / 2,
+/// <.> the mass-weighted mean (removes the flow's unknown fixed point and any drift of the whole
+/// packing). For a box whose walls alone move (the particles feel the deformation through the
+/// periodic images and take up the flow themselves); axes whose particles are remapped affinely carry
+/// no flow in the velocities and are left out. Serial, in particle order.
+double fluctuationKineticEnergy(const ParticleData& particles, const Vec3& rate, const Vec3& centre,
+                                const std::array<bool, 3>& flowAxis);
 
 /// Column names of RUN.macro.csv (the required columns first, then the extra ones).
 const std::vector<std::string>& macroColumns();
