@@ -91,6 +91,13 @@ double BoxController::cosineLength(const AxisControl& c, double t) {
     return c.lengthFinal + 0.5 * (c.lengthStart - c.lengthFinal) * (1 + std::cos(2 * std::numbers::pi * tau / c.period));
 }
 
+double BoxController::cosineRate(const AxisControl& c, double t) {
+    const double tau = t - c.timeStart;
+    if (tau <= 0) return 0.0;
+    const double w = 2 * std::numbers::pi / c.period;
+    return -0.5 * (c.lengthStart - c.lengthFinal) * w * std::sin(w * tau);
+}
+
 void BoxController::step(PeriodicBox& box, ParticleData& P, double t, double dt, const Vec3& stress,
                          const std::vector<double>& density) {
     const Vec3 L = box.length();

@@ -83,6 +83,8 @@ public:
 
     /// Length of a Cosine axis at time t (held at L_f after half a period only if the caller stops).
     static double cosineLength(const AxisControl& c, double t);
+    /// dL/dt of a Cosine axis at time t (0 before its start).
+    static double cosineRate(const AxisControl& c, double t);
 
     /// Advance the box from t to t + dt. `stressDiag`: current diagonal stress (Pa, compression
     /// positive), needed only by Stress axes. `densityOfSpecies`: needed only with swelling.

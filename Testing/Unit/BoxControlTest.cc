@@ -250,3 +250,23 @@ TEST(BoxControl, ScaleAboutCentreEqualsThreeAxisSteps) {
     for (std::size_t i = 0; i < a.size(); ++i)
         for (int ax = 0; ax < 3; ++ax) ASSERT_EQ(a.x[i][ax], b.x[i][ax]) << i;
 }
+
+// The cosine law's rate (used for the affine flow of the fluctuation kinetic energy) is the
+// derivative of its length: compared with a central difference, zero before the start, and the
+// extreme rate of Sec. 2.2.2, pi f (L0 - Lf), at a quarter period.
+TEST(BoxControl, CosineRateIsTheDerivativeOfTheCosineLength) {
+    AxisControl c;
+    c.mode = AxisMode::Cosine;
+    c.lengthStart = 0.04;
+    c.lengthFinal = 0.03;
+    c.period = 5e-3;
+    c.timeStart = 1e-3;
+    EXPECT_EQ(BoxController::cosineRate(c, 0.5e-3), 0.0);
+    for (double t : {1.2e-3, 2.0e-3, 3.1e-3, 4.4e-3, 5.9e-3}) {
+        const double h = 1e-8;
+        const double fd = (BoxController::cosineLength(c, t + h) - BoxController::cosineLength(c, t - h)) / (2 * h);
+        EXPECT_NEAR(BoxController::cosineRate(c, t), fd, 1e-6 * std::abs(fd) + 1e-9) << t;
+    }
+    const double quarter = c.timeStart + c.period / 4;
+    EXPECT_NEAR(BoxController::cosineRate(c, quarter), -std::numbers::pi / c.period * (c.lengthStart - c.lengthFinal), 1e-12);
+}

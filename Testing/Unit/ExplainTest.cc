@@ -1535,34 +1535,47 @@ TEST(ExplainCreep, ACreepStepIsARelaxationHoldFromItsFirstSample) {
 
 // The free loading curve (loading_curve) is a function of strain: a kink of it exactly where a creep
 // step begins would let a plateau of the curve stand in for the strain crept at constant stress. A
-// virgin creep step therefore gets its knot where it ends, never where it begins; without the step
-// column (the strain-rate phases alone) the knot rule is the old one.
-TEST(ExplainCreep, LoadingCurveKnotsSitAtTheEndOfACreepStep) {
+// creep step that begins on the virgin curve therefore gets its knot at the largest strain it reaches,
+// never where it begins. Without the step column the creep steps are not known and a knot sits where
+// each virgin strain hold begins, as before.
+TEST(ExplainCreep, LoadingCurveKnotsSitAtTheTopOfACreepStep) {
     auto [rec, proto] = surrogateCreepRecord(0.06, 0.5, 150);
     const ModelInput in = makeModelInput(rec, proto);
     ASSERT_EQ(in.creep.size(), rec.size());
-    const Model m(in);
-    const std::vector<double>& k = m.knotStrains();
-    auto hasKnot = [&](double e) {
+    auto hasKnot = [](const std::vector<double>& k, double e) {
         for (double x : k)
             if (std::abs(x - e) <= 1e-12 * std::max(1.0, std::abs(e))) return true;
         return false;
     };
+    const std::vector<double> knots = Model(in).knotStrains();
     double emax = -1e300;
     int virginCreeps = 0;
     for (std::size_t i = 0; i < rec.size(); ++i) {
-        const bool starts = in.creep[i] && (i == 0 || !in.creep[i - 1]);
-        const bool ends = in.creep[i] && (i + 1 == rec.size() || !in.creep[i + 1]);
-        if (starts && rec.strain[i] >= emax) {
+        if (in.creep[i] && (i == 0 || !in.creep[i - 1]) && rec.strain[i] >= emax) {
             ++virginCreeps;
-            EXPECT_FALSE(hasKnot(rec.strain[i])) << "a knot where creep step at sample " << i << " begins";
+            EXPECT_FALSE(hasKnot(knots, rec.strain[i])) << "a knot where the creep step at sample " << i << " begins";
+            double top = rec.strain[i];
+            for (std::size_t j = i; j < rec.size() && in.creep[j]; ++j) top = std::max(top, rec.strain[j]);
+            EXPECT_TRUE(hasKnot(knots, top)) << "no knot at the top of the creep step that begins at sample " << i;
         }
         emax = std::max(emax, rec.strain[i]);
-        if (ends && rec.strain[i] >= emax) {
-            EXPECT_TRUE(hasKnot(rec.strain[i])) << "no knot where the creep step ending at sample " << i << " ends";
-        }
     }
     EXPECT_EQ(virginCreeps, 2);
+    // without the step column: a knot at the first sample of the virgin strain hold (the last phase)
+    Recording plain = rec;
+    plain.step.clear();
+    const ModelInput pin = makeModelInput(plain, proto);
+    const std::vector<double> plainKnots = Model(pin).knotStrains();
+    int virginHolds = 0;
+    emax = -1e300;
+    for (const PhaseSegment& ph : detectPhases(plain.t, plain.strain)) {
+        if (ph.phase == Phase::Hold && plain.strain[ph.begin] >= emax) {
+            ++virginHolds;
+            EXPECT_TRUE(hasKnot(plainKnots, plain.strain[ph.begin])) << "no knot at the virgin hold beginning at " << ph.begin;
+        }
+        for (std::size_t j = ph.begin; j < ph.end; ++j) emax = std::max(emax, plain.strain[j]);
+    }
+    EXPECT_GE(virginHolds, 1);
 }
 
 // The step column is checked against the protocol: an index beyond its steps is refused (exit 2).

@@ -41,7 +41,8 @@ double macroscopicC(const std::string& protocolPath) {
 
 /// Stress a baseline without relaxation gets wrong in the creep steps of a driver record, per sample:
 /// the loading tangent before the step (secant over the top 20 % of the preceding step's stress)
-/// times the strain crept since the step began; 0 outside creep steps.
+/// times the strain crept since the step began (from the last sample before it: the fastest creep is
+/// at the start); 0 outside creep steps.
 std::vector<double> creepEffect(const Recording& r, const Protocol& p) {
     std::vector<double> eff(r.t.size(), 0.0);
     if (r.step.size() != r.t.size()) return eff;
@@ -62,9 +63,21 @@ std::vector<double> creepEffect(const Recording& r, const Protocol& p) {
                 if (de > 0) tangent = (r.stress[i - 1] - r.stress[j]) / de;
             }
         }
-        eff[i] = tangent * (r.strain[i] - r.strain[start]);
+        eff[i] = tangent * (r.strain[i] - r.strain[start > 0 ? start - 1 : 0]);
     }
     return eff;
+}
+
+/// Lab time of the first and last sample of every step of a driver record (-1: the step has none).
+std::vector<std::pair<double, double>> stepTimes(const Recording& r, std::size_t steps) {
+    std::vector<std::pair<double, double>> st(steps, {-1.0, -1.0});
+    for (std::size_t i = 0; i < r.t.size() && i < r.step.size(); ++i) {
+        const auto k = static_cast<std::size_t>(r.step[i]);
+        if (k >= steps) continue;
+        if (st[k].first < 0) st[k].first = r.t[i];
+        st[k].second = r.t[i];
+    }
+    return st;
 }
 
 } // namespace
@@ -146,7 +159,9 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     // the effect of each run on its own samples (creep: tangent x creep strain; else the stress)
     const std::vector<double> effWith = creep ? creepEffect(with, protoWith) : with.stress;
     const std::vector<double> effWithout = creep ? creepEffect(without, protoWithout) : without.stress;
-    if (creep && (shown.step.size() != shown.t.size())) inputError("dem-case: the DEM record has no step column");
+    if (creep && (with.step.size() != with.t.size() || without.step.size() != without.t.size()))
+        inputError("dem-case: the DEM record has no step column");
+    const auto stepsWith = stepTimes(with, protoWith.steps.size()), stepsWithout = stepTimes(without, protoWithout.steps.size());
 
     // the record shown to the explainer on a uniform lab-time grid; the effect on the same grid
     GeneratedCase g;
@@ -168,9 +183,17 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
             const auto k = static_cast<std::size_t>(std::upper_bound(shown.t.begin(), shown.t.end(), t) - shown.t.begin());
             R.step.push_back(shown.step[k > 0 ? k - 1 : 0]);
         }
-        // the effect on the "with" record's grid, so that a case and its twin share it
+        // the effect on the "with" record's grid, so that a case and its twin share it (creep: the
+        // "without" run at the same time since the same step began; its ramps are shorter)
         const double tw = with.t.front() + Tw * i / (n - 1);
-        effect[static_cast<std::size_t>(i)] = at(with.t, effWith, tw) - at(without.t, effWithout, tw);
+        double two = tw;
+        if (creep) {
+            const auto k = static_cast<std::size_t>(std::upper_bound(with.t.begin(), with.t.end(), tw) - with.t.begin());
+            const auto st = static_cast<std::size_t>(with.step[k > 0 ? k - 1 : 0]);
+            if (st < stepsWith.size() && st < stepsWithout.size() && stepsWithout[st].first >= 0)
+                two = std::min(stepsWithout[st].first + (tw - stepsWith[st].first), stepsWithout[st].second);
+        }
+        effect[static_cast<std::size_t>(i)] = at(with.t, effWith, tw) - at(without.t, effWithout, two);
     }
     double smax = 0, peak = 0, e2 = 0;
     for (int i = 0; i < n; ++i) {
@@ -292,6 +315,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
     std::vector<Job> jobs;
     for (const std::string& family : families) {
         // the relaxation family keeps its seeds and names; the wall family counts on from its own base
+        // (bases 200 apart: distinct seeds while a family has at most 100 pairs per SNR and two SNRs)
         unsigned long s = family == "contact_relaxation" ? seed * 1000 : family == "wall_friction" ? seed * 1000 + 500 : seed * 1000 + 700;
         const std::string tag = family == "contact_relaxation" ? "" : family + "_";
         auto add = [&](const std::string& kind, double snr, std::size_t si, int k) {

@@ -24,13 +24,13 @@
 // bottom stress with its own offset, AR(1) noise of the same sd and quantisation. MODEL.json:
 // stiffness_nonlinearity and a free loading curve (the elastic bed's own first loading).
 //
-// Creep (family creep): the relaxation family's protocol and draws with every hold a creep step at
+// Creep (family creep): the relaxation family's protocol shape and parameter ranges (its own seeds) with every hold a creep step at
 // constant stress (creep:T, the piston keeping the stress reached), so contact relaxation shows as
 // strain growing at constant stress, not as stress decay. The truth's mechanism is contact_relaxation;
 // the shown record carries the driver's `step` column (which tells the explainer the creep steps).
 // The effect is what a baseline without relaxation gets wrong at the recorded strain: in a creep step,
 // the loading tangent before the step (top 20 % of the preceding ramp's stress) times the strain crept
-// so far, "with" minus "without" at the same lab time of the step (the stress sags a little in both
+// so far, "with" minus "without" at the same lab time since the step began (the stress sags a little in both
 // runs while the piston follows; the driver's controller). No macroscopic C (Eq. 4.3 needs a
 // position hold).
 //

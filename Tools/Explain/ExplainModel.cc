@@ -82,21 +82,31 @@ Model::Model(const ModelInput& in) : in_(in) {
         {"n", "-", kNonlinearity, 0.2, 4, 1, 0.1, false},
     };
     // loading_curve knots: every virgin hold strain (where the stress level of a hold is set), the
-    // largest strain, and fill-in knots so that no gap exceeds epsRange/8. A virgin creep step gets
-    // its knot where it ends, not where it begins: the strain it creeps is time-dependent
+    // largest strain, and fill-in knots so that no gap exceeds epsRange/8. A creep step that begins
+    // on the virgin curve (its first sample at the largest strain so far) gets its knot at the
+    // largest strain it reaches, not where it begins: the strain it creeps is time-dependent
     // deformation, and a kink of the skeleton curve exactly at its start would let a plateau of the
-    // curve stand in for it (the curve is a function of strain only).
+    // curve stand in for it (the curve is a function of strain only). The controller may let the
+    // strain of a creep step move back a little, so neither its first nor its last sample is used.
     std::vector<double> ks;
     {
         double emax = -std::numeric_limits<double>::infinity();
         bool inHold = false;
         const bool anyCreep = in.creep.size() == in.eps.size();
+        bool virginCreep = false;
+        double creepTop = 0;
         for (std::size_t i = 0; i < in.eps.size(); ++i) {
             const bool isCreep = anyCreep && in.creep[i];
             const bool virginHold = in.hold[i] && in.eps[i] >= emax - 1e-9 * in.epsRange;
             if (virginHold && !inHold && !isCreep) ks.push_back(in.eps[i]);
-            const bool creepEnds = isCreep && (i + 1 == in.eps.size() || !in.creep[i + 1]);
-            if (creepEnds && in.eps[i] >= emax - 1e-9 * in.epsRange) ks.push_back(in.eps[i]);
+            if (isCreep && (i == 0 || !in.creep[i - 1])) {  // a creep step begins
+                // on the virgin curve: within the knot-merge distance (1 % of the range) of the largest
+                // strain so far (the piston may step back a little when the creep control takes over)
+                virginCreep = in.eps[i] >= emax - 0.01 * in.epsRange;
+                creepTop = in.eps[i];
+            }
+            if (isCreep) creepTop = std::max(creepTop, in.eps[i]);
+            if (isCreep && virginCreep && (i + 1 == in.eps.size() || !in.creep[i + 1])) ks.push_back(creepTop);
             inHold = in.hold[i];
             emax = std::max(emax, in.eps[i]);
         }

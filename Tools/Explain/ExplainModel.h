@@ -24,7 +24,7 @@
 //   rolling_resistance  acts on the lateral stress / q-p ratio only: not testable on axial stress
 //   loading_curve   (baseline only, never a candidate) a free shape of the skeleton curve: s_v(e) is
 //                   multiplied by 1 + c(e), c piecewise linear in strain through knots at every virgin
-//                   hold strain and at most epsRange/8 apart, the last held at 0 (E sets the level; off: every knot 0). A function of strain
+//                   hold strain (a virgin creep step: the largest strain it reaches) and at most epsRange/8 apart, the last held at 0 (E sets the level; off: every knot 0). A function of strain
 //                   alone, so it cannot imitate anything that happens at constant strain (hold decay,
 //                   rate steps); it absorbs stiffness_nonlinearity, which is then not tested
 //   instrument_compliance (nuisance)  eps_true = eps_meas - kappa/E * stress (off: kappa = 0)

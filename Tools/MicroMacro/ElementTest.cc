@@ -291,12 +291,17 @@ void ElementTest::writeOutputFiles() {
     in.epsDev = s.deviatoric;
     in.kineticEnergy = kineticEnergy() + rotationalEnergy();
     in.elasticEnergy = elasticEnergy();
-    // flow taken up by the particles: axes whose walls move without remapping the particles
+    // flow taken up by the particles: axes whose walls move without remapping the particles, at the
+    // cosine law's exact rate now (not the last step's: a row written right after a restart is the same)
     std::array<bool, 3> flow{};
-    for (int a = 0; a < 3; ++a)
-        flow[static_cast<std::size_t>(a)] = ctrl_.mode(a) == AxisMode::Cosine && !ctrl_.axis(a).affine;
+    Vec3 rate{};
+    for (int a = 0; a < 3; ++a) {
+        const AxisControl& c = ctrl_.axis(a);
+        flow[static_cast<std::size_t>(a)] = c.mode == AxisMode::Cosine && !c.affine;
+        if (flow[static_cast<std::size_t>(a)]) rate[a] = BoxController::cosineRate(c, time()) / box().length()[a];
+    }
     const Vec3 centre = 0.5 * (box().lo() + box().hi());
-    in.fluctuationKineticEnergy = fluctuationKineticEnergy(particles(), s.rate, centre, flow) + rotationalEnergy();
+    in.fluctuationKineticEnergy = fluctuationKineticEnergy(particles(), rate, centre, flow) + rotationalEnergy();
     macro_.append(macroRow(computeMacro(particles(), contacts(), in), in));
 }
 
