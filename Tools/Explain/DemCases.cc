@@ -402,7 +402,8 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
        << "contact_relaxation: periodic bed, baseline (MODEL.json) stiffness_nonlinearity, plasticity and a free loading curve "
        << "(loading_curve), the bed's own behaviour. wall_friction: a 30 mm mould (H/D 1) with elastic contacts, baseline "
        << "stiffness_nonlinearity and loading_curve; every second pair with a noisy bottom stress sensor. creep: the "
-       << "contact_relaxation family's bed, baseline and draws with every hold a creep step at constant stress (the effect: the "
+       << "contact_relaxation family's protocol shape, parameter ranges and baseline (its own seeds) with every hold a creep step "
+       << "at constant stress (the effect: the "
        << "loading tangent before a step times the strain crept). Each null case is its "
        << "positive twin's bed, protocol and noise without the mechanism (noise sd = the twin's peak effect / SNR).\n\n";
     for (const std::string& family : families) {
