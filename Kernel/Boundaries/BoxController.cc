@@ -135,6 +135,7 @@ void BoxController::step(PeriodicBox& box, ParticleData& P, double t, double dt,
     }
     // every changed axis in one pass over the particles (each axis reads only its own bounds)
     if (set[0] || set[1] || set[2]) box.setAxes(newLo, newHi, set, remapAxis, &P);
+    applyRates(box, t + dt);
     if (swelling_ != 0) {
         const double s = std::exp(swelling_ * dt);
         for (std::size_t i = 0; i < P.size(); ++i) {
@@ -144,6 +145,24 @@ void BoxController::step(PeriodicBox& box, ParticleData& P, double t, double dt,
             P.setRadius(i, P.r[i] * s, density[sp]);
             if (fixed) P.setFixed(i, true);
         }
+    }
+}
+
+void BoxController::applyRates(PeriodicBox& box, double t) const {
+    for (int a = 0; a < 3; ++a) {
+        const AxisControl& c = axes_[a];
+        double flow = 0, affine = 0;
+        switch (c.mode) {
+        case AxisMode::Free: break;
+        case AxisMode::Cosine:
+            if (c.affine) affine = cosineRate(c, t) / cosineLength(c, t);
+            else flow = cosineRate(c, t);
+            break;
+        case AxisMode::StrainRate: affine = c.rate; break;
+        case AxisMode::Stress: affine = c.wallVelocity / box.length()[a]; break;
+        }
+        box.setFlowRate(a, flow);
+        box.setAffineRate(a, affine);
     }
 }
 

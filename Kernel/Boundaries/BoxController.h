@@ -91,6 +91,12 @@ public:
     void step(PeriodicBox& box, ParticleData& particles, double t, double dt, const Vec3& stressDiag = {},
               const std::vector<double>& densityOfSpecies = {});
 
+    /// Tell the box how its axes move at time t: dL/dt of each axis that moves without remapping the
+    /// particles (wall-driven Cosine axes; PeriodicBox::setFlowRate) and d ln L/dt of each axis whose
+    /// particles are remapped (StrainRate, Stress, affine Cosine; PeriodicBox::setAffineRate), zero
+    /// elsewhere. step() does it for t + dt; call it after a restart has been read, before forces.
+    void applyRates(PeriodicBox& box, double t) const;
+
     void setReference(const PeriodicBox& box);
     const Vec3& referenceLength() const { return ref_; }
     StrainState strain(const PeriodicBox& box) const;

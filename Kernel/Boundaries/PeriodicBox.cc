@@ -93,6 +93,36 @@ void PeriodicBox::wrap(Vec3& x) const {
     }
 }
 
+Vec3 PeriodicBox::wrapWithVelocityShift(Vec3& x) const {
+    Vec3 dv{};
+    for (int a = 0; a < 3; ++a) {
+        if (!periodic_[a]) continue;
+        double& c = x[a];
+        if (c < lo_[a] || c >= hi_[a]) {
+            const double k = std::floor((c - lo_[a]) / len_[a]);
+            c -= len_[a] * k;
+            double shifts = k;
+            if (c >= hi_[a]) {  // guard against round-off
+                c -= len_[a];
+                shifts += 1;
+            }
+            if (c < lo_[a]) c = lo_[a];
+            dv[a] = -shifts * flow_[a];
+        }
+    }
+    return dv;
+}
+
+void PeriodicBox::setFlowRate(int axis, double rate) {
+    if (axis < 0 || axis > 2 || !std::isfinite(rate)) inputError("box: flow rate needs an axis 0..2 and a finite rate");
+    flow_[axis] = rate;
+}
+
+void PeriodicBox::setAffineRate(int axis, double rate) {
+    if (axis < 0 || axis > 2 || !std::isfinite(rate)) inputError("box: affine rate needs an axis 0..2 and a finite rate");
+    affine_[axis] = rate;
+}
+
 void PeriodicBox::write(std::ostream& os) const {
     os << "box " << fmt(lo_) << ' ' << fmt(hi_) << ' ' << periodic_[0] << ' ' << periodic_[1] << ' ' << periodic_[2]
        << ' ' << fmt(change_[0]) << ' ' << fmt(change_[1]) << ' ' << fmt(change_[2]) << '\n';

@@ -44,6 +44,29 @@ public:
     }
     /// Wrap a position into [lo, hi) along periodic axes.
     void wrap(Vec3& x) const;
+    /// wrap(x), and the change of velocity that goes with it: a particle moved by -k L along a
+    /// flowing axis becomes the image whose velocity is v - k L' (see setFlowRate).
+    Vec3 wrapWithVelocityShift(Vec3& x) const;
+
+    /// dL/dt of a periodic axis whose length changes without remapping the particle positions (a
+    /// wall-driven deformation): the image of a particle shifted by k box lengths then moves with
+    /// v + k L'. The contact loops add this to the velocity of an image partner, and wrapping shifts
+    /// the velocity of a particle that crosses the boundary. Zero on axes whose particles are
+    /// remapped (their velocities are relative to the affine flow already). Set every step by the
+    /// driver of the deformation (BoxController); not part of the restart record.
+    void setFlowRate(int axis, double rate);
+    double flowRate(int axis) const { return flow_[axis]; }
+    /// True if some periodic axis has a non-zero flow rate.
+    bool flowing() const { return (periodic_[0] && flow_[0] != 0) || (periodic_[1] && flow_[1] != 0) ||
+                                  (periodic_[2] && flow_[2] != 0); }
+    /// d ln L/dt of an axis whose particle positions are remapped affinely with the box (strain-rate,
+    /// stress and affine cosine control): the particles move with v + rate (x - c) along it, v being
+    /// the velocity relative to that affine field. The contact loops add rate * (x_i - x_j) to the
+    /// relative velocity of every pair, so that dashpots and tangential springs see the deformation
+    /// too, as they do with wall-driven axes. Set every step by BoxController; not in the restart record.
+    void setAffineRate(int axis, double rate);
+    double affineRate(int axis) const { return affine_[axis]; }
+    bool affine() const { return affine_[0] != 0 || affine_[1] != 0 || affine_[2] != 0; }
 
     /// Sum of |change| of each periodic length since the last call of resetChange().
     double lengthChange(int axis) const { return change_[axis]; }
@@ -57,6 +80,7 @@ private:
     std::array<bool, 3> periodic_{false, false, false};
     std::array<double, 3> len_{1, 1, 1}, half_{0.5, 0.5, 0.5};
     std::array<double, 3> change_{0, 0, 0};
+    std::array<double, 3> flow_{0, 0, 0}, affine_{0, 0, 0};
 };
 
 } // namespace pdpm

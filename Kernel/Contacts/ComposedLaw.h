@@ -90,8 +90,8 @@ public:
                 nHit = screenChunk<kPeriodic>(c0, c1, pi, pj, x, r, img, hist, hit, sdx, sdy, sdz, sd2);
                 for (std::size_t q = 0; q < nHit; ++q) {
                     const std::size_t k = c0 + hit[q];
-                    contact(k, pi[k], pj[k], sdx[q], sdy[q], sdz[q], sd2[q], x, v, w, r, invM, m, sp, f, t,
-                                     hist, spt, dt, time, rec, energy);
+                    contact<kPeriodic>(k, pi[k], pj[k], sdx[q], sdy[q], sdz[q], sd2[q], x, v, w, r, invM, m,
+                                       sp, f, t, hist, img, spt, dt, time, rec, energy);
                 }
             } else {
                 for (std::size_t k = c0; k < c1; ++k) {
@@ -99,8 +99,8 @@ public:
                     double dx, dy, dz, d2;
                     if (separation<kPeriodic>(i, j, x, r, img, dx, dy, dz, d2)) {
                         ++nHit;
-                        contact(k, i, j, dx, dy, dz, d2, x, v, w, r, invM, m, sp, f, t, hist, spt, dt, time,
-                                         rec, energy);
+                        contact<kPeriodic>(k, i, j, dx, dy, dz, d2, x, v, w, r, invM, m, sp, f, t, hist, img,
+                                           spt, dt, time, rec, energy);
                     } else if constexpr (H > 0) {
                         if (dirtyHistory(hist + k * H))
                             for (int q = 0; q < H; ++q) hist[k * H + q] = 0.0;
@@ -140,6 +140,16 @@ public:
                 b.vx[q] = v[i].x - v[j].x;
                 b.vy[q] = v[i].y - v[j].y;
                 b.vz[q] = v[i].z - v[j].z;
+                if constexpr (kPeriodic) {
+                    if (img.flow) {  // partner seen through a boundary that moves: its image moves with it
+                        double ux, uy, uz;
+                        img.imageVelocity(x[i].x - x[j].x, x[i].y - x[j].y, x[i].z - x[j].z, ux, uy, uz);
+                        b.vx[q] -= ux;
+                        b.vy[q] -= uy;
+                        b.vz[q] -= uz;
+                    }
+                }
+                if (img.affine) img.addAffine(b.dx[q], b.dy[q], b.dz[q], b.vx[q], b.vy[q], b.vz[q]);
                 if constexpr (kFriction) {
                     b.wix[q] = w[i].x;
                     b.wiy[q] = w[i].y;
@@ -256,12 +266,14 @@ public:
     /// run-time branch on purpose: a separate no-record instantiation would let the compiler fuse
     /// multiply-adds differently (the energy shares products with the force), so forces would
     /// depend on whether the step writes output.
+    template <bool kPeriodic>
     [[gnu::always_inline]] static inline void contact(std::size_t k, uint32_t i, uint32_t j, double dx, double dy, double dz, double d2,
                                const Vec3* __restrict x, const Vec3* __restrict v, const Vec3* __restrict w,
                                const double* __restrict r, const double* __restrict invM,
                                const double* __restrict m, const int32_t* __restrict sp, Vec3* __restrict f,
-                               Vec3* __restrict t, double* __restrict hist, const SpeciesTable& spt, double dt,
-                               double time, std::vector<ContactRecord>* rec, double& energy) {
+                               Vec3* __restrict t, double* __restrict hist, const MinimumImage& img,
+                               const SpeciesTable& spt, double dt, double time, std::vector<ContactRecord>* rec,
+                               double& energy) {
         (void)m;
         (void)invM;
         const double rs = r[i] + r[j];
@@ -271,7 +283,15 @@ public:
         ContactState st;
         st.n = {dx * inv, dy * inv, dz * inv};
         st.overlap = rs - dist;
-        const Vec3 vrel = v[i] - v[j];
+        Vec3 vrel = v[i] - v[j];
+        if constexpr (kPeriodic) {
+            if (img.flow) {  // partner seen through a boundary that moves: its image moves with it
+                Vec3 u;
+                img.imageVelocity(x[i].x - x[j].x, x[i].y - x[j].y, x[i].z - x[j].z, u.x, u.y, u.z);
+                vrel -= u;
+            }
+        }
+        if (img.affine) img.addAffine(dx, dy, dz, vrel.x, vrel.y, vrel.z);  // remapped axes: the affine flow
         st.overlapRate = -dot(vrel, st.n);
         st.dt = dt;
         st.time = time;

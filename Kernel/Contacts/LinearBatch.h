@@ -30,7 +30,7 @@ struct LinearBatch {
     // ---- input per contact
     alignas(64) double dx[kMax], dy[kMax], dz[kMax], d2[kMax];  ///< x_i - x_j (minimum image), |.|^2
     alignas(64) double ri[kMax], rj[kMax];                      ///< radii
-    alignas(64) double vx[kMax], vy[kMax], vz[kMax];            ///< v_i - v_j
+    alignas(64) double vx[kMax], vy[kMax], vz[kMax];            ///< v_i - v_j (+ the box's flow terms)
     alignas(64) double wix[kMax], wiy[kMax], wiz[kMax];         ///< angular velocities
     alignas(64) double wjx[kMax], wjy[kMax], wjz[kMax];
     alignas(64) double h0[kMax], h1[kMax], h2[kMax], h3[kMax];  ///< spring, sliding flag (in/out)

@@ -262,6 +262,7 @@ void DPMBase::solve() {
         time_ += dt_;
         for (auto& w : walls_) w->moveTo(time_);
         if (neighbours_.needsRebuild(maxDisplacement, particles_, box_, walls_)) {
+            if (box_.flowing()) wrapWithFlow();
             neighbours_.build(particles_, box_, walls_, law_->historySize());
             slabRecords_.resize(neighbours_.slabCount() + 1);
             slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
@@ -338,6 +339,22 @@ double DPMBase::integrateFirstHalf() {
     forcesZeroed_ = true;
     usePredicted_ = true;
     return haveRef ? std::sqrt(maxD2) : 1e300;
+}
+
+// Across a boundary that moves without remapping, a particle that leaves at one side re-enters as
+// the image with the flow of that side: position -k L and velocity -k L' (the predicted velocity too;
+// fixed particles as well, so that their contacts stay consistent). The neighbour list would wrap the
+// positions alone.
+void DPMBase::wrapWithFlow() {
+    ParticleData& P = particles_;
+    const long n = static_cast<long>(P.size());
+    const bool pred = vPred_.size() == P.size();
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i) {
+        const Vec3 dv = box_.wrapWithVelocityShift(P.x[i]);
+        P.v[i] += dv;
+        if (pred) vPred_[i] += dv;
+    }
 }
 
 bool DPMBase::integrateSecondHalf() {

@@ -183,6 +183,7 @@ private:
     /// dt_ in the time loop, 0 for the evaluation of a fresh start at t = 0 (no time has passed yet).
     void computeForces(bool record, double historyDt);
     double integrateFirstHalf();
+    void wrapWithFlow();
     bool integrateSecondHalf();
     void addBodyForces();
     void reportNonFinite();

@@ -253,9 +253,11 @@ vtkSmartPointer<vtkUnstructuredGrid> particleGrid(const SnapshotView& s) {
     vtkNew<vtkPoints> points;
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(N);
+    // wrapped as the next neighbour-list build would: across a wall-driven boundary the velocity too
+    std::vector<Vec3> velocity(P.v.begin(), P.v.begin() + static_cast<std::ptrdiff_t>(n));
     for (std::size_t i = 0; i < n; ++i) {
         Vec3 x = P.x[i];
-        s.box.wrap(x);
+        velocity[i] += s.box.wrapWithVelocityShift(x);
         points->SetPoint(static_cast<vtkIdType>(i), x.x, x.y, x.z);
     }
     grid->SetPoints(points);
@@ -291,7 +293,7 @@ vtkSmartPointer<vtkUnstructuredGrid> particleGrid(const SnapshotView& s) {
     pd->AddArray(id);
     pd->AddArray(radius);
     pd->AddArray(mass);
-    pd->AddArray(vec3Array("velocity", P.v, n));
+    pd->AddArray(vec3Array("velocity", velocity, n));
     pd->AddArray(vec3Array("angular_velocity", P.w, n));
     pd->AddArray(species);
     pd->AddArray(fixed);

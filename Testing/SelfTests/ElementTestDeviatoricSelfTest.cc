@@ -1,9 +1,17 @@
 // Self-test: DeviatoricD2 (self-prepared at v_i = 0.70, N = 500, frictionless), D2 pure shear to
-// eps_dev = 0.3. Checks: volume is conserved, eps_dev reaches 0.3, s_dev rises from its initial value
-// and then saturates (the mean over eps_dev in [0.15, 0.22] and over [0.22, 0.3] agree within 25 %,
-// and both exceed 1.5 times the mean over eps_dev <= 0.01 and 0.1), the major stress eigenvector turns to z (compression).
-// Then a short triaxial run: the lateral stresses stay at their start value within 15 % while z is
-// compressed.
+// eps_dev = 0.3. Checks: volume is conserved, eps_dev reaches 0.3, the stress anisotropy builds up in
+// the direction of the imposed strain and then saturates, the major stress eigenvector turns to z
+// (compression). Then a short triaxial run: the lateral stresses stay at their start value within
+// 15 % while z is compressed.
+// "Builds up": the signed anisotropy (sigma_zz - sigma_xx)/p (z is compressed, x extended) rises by at
+// least 0.1 from the isotropic start (the last row before the shear) to its mean over eps_dev in
+// [0.15, 0.3], and the late s_dev exceeds 0.15. Until 2026-12-04 the check was "the mean s_dev over
+// eps_dev in [0.15, 0.22] and [0.22, 0.3] exceed 1.5 times its mean over eps_dev <= 0.01": a
+// 500-particle packing starts with a random s_dev of about 0.1, half the saturation value, so that
+// ratio passed or failed with the packing's realisation (0.111 -> 0.20, passing, before the contact
+// loops added the affine flow to remapped axes; 0.148 -> 0.176, failing, after, with the same
+// physics of the shear). Measured 2026-12-04: signed anisotropy 0.065 at the start, 0.21 late; late
+// s_dev 0.20; the two halves of [0.15, 0.3] 0.176 and 0.213.
 #include "../../Drivers/Deviatoric/DeviatoricD2.h"
 #include "ElementTestCommon.h"
 
@@ -22,8 +30,22 @@ int main() {
     check(dv < 1e-9, "volume conserved during D2 (max change " + std::to_string(dv) + ")");
     check(std::fabs(vf.x.back() - 0.3) < 1e-4, "eps_dev reaches 0.3 (" + std::to_string(vf.x.back()) + ")");
     const Series s = select(t, "eps_dev", "s_dev", test);
-    const double s0 = meanOver(s, 0, 0.01), a = meanOver(s, 0.15, 0.22), b = meanOver(s, 0.22, 0.3);
-    check(a > 1.5 * s0 && b > 1.5 * s0 && a > 0.1, "s_dev rises (start " + std::to_string(s0) + ", late " + std::to_string(b) + ")");
+    const double a = meanOver(s, 0.15, 0.22), b = meanOver(s, 0.22, 0.3);
+    // signed anisotropy along the imposed strain, from the isotropic start (last row before the shear)
+    const int cz = t.column("sigma_zz"), cx = t.column("sigma_xx"), cp = t.column("p");
+    double start = 0;
+    for (const auto& r : t.rows)
+        if (r[tau] < 0) start = (r[cz] - r[cx]) / r[cp];
+    std::vector<double> signedLate;
+    const int ce = t.column("eps_dev");
+    for (const auto& r : t.rows)
+        if (r[tau] >= 0 && r[ce] >= 0.15) signedLate.push_back((r[cz] - r[cx]) / r[cp]);
+    double late = 0;
+    for (double x : signedLate) late += x;
+    late = signedLate.empty() ? 0 : late / static_cast<double>(signedLate.size());
+    check(late > start + 0.1 && 0.5 * (a + b) > 0.15,
+          "anisotropy builds up along the imposed strain ((sigma_zz - sigma_xx)/p " + std::to_string(start) + " -> " +
+              std::to_string(late) + ", late s_dev " + std::to_string(0.5 * (a + b)) + ")");
     check(std::fabs(a - b) < 0.25 * b, "s_dev saturates (" + std::to_string(a) + " vs " + std::to_string(b) + ")");
     const Series th = select(t, "eps_dev", "sig_theta1", test);
     check(meanOver(th, 0.1, 0.3) < 20, "major stress axis near z (" + std::to_string(meanOver(th, 0.1, 0.3)) + " deg)");

@@ -270,3 +270,42 @@ TEST(BoxControl, CosineRateIsTheDerivativeOfTheCosineLength) {
     const double quarter = c.timeStart + c.period / 4;
     EXPECT_NEAR(BoxController::cosineRate(c, quarter), -std::numbers::pi / c.period * (c.lengthStart - c.lengthFinal), 1e-12);
 }
+
+// Wall-driven cosine axes (no remap) tell the box their dL/dt, remapped axes their d ln L/dt.
+// A particle wrapped across a flowing axis takes the velocity of the image it becomes.
+TEST(BoxControl, WallDrivenAxesFlowAndWrappingShiftsVelocity) {
+    Fixture f;
+    BoxController c;
+    c.setCosine(2, 4.0, 3.0, 2.0, 0.0, false);
+    c.setCosine(0, 2.0, 1.5, 2.0, 0.0, true);
+    c.setStrainRate(1, -0.1);
+    const double dt = 1e-3, t = 0.3;
+    c.step(f.box, f.P, t, dt);
+    EXPECT_DOUBLE_EQ(f.box.flowRate(2), BoxController::cosineRate(c.axis(2), t + dt));
+    EXPECT_LT(f.box.flowRate(2), 0.0);
+    EXPECT_EQ(f.box.flowRate(0), 0.0);
+    EXPECT_EQ(f.box.flowRate(1), 0.0);
+    EXPECT_TRUE(f.box.flowing());
+    // remapped axes carry d ln L/dt instead
+    EXPECT_EQ(f.box.affineRate(2), 0.0);
+    EXPECT_DOUBLE_EQ(f.box.affineRate(1), -0.1);
+    EXPECT_NEAR(f.box.affineRate(0),
+                BoxController::cosineRate(c.axis(0), t + dt) / BoxController::cosineLength(c.axis(0), t + dt), 1e-15);
+    EXPECT_NEAR(f.box.affineRate(0) * f.box.length()[0], BoxController::cosineRate(c.axis(0), t + dt), 1e-12);
+    const double L = f.box.length()[2], rate = f.box.flowRate(2);
+    Vec3 above{1.0, 1.0, f.box.hi()[2] + 0.25}, below{1.0, 1.0, f.box.lo()[2] - 2.25 * L};
+    const Vec3 dvA = f.box.wrapWithVelocityShift(above), dvB = f.box.wrapWithVelocityShift(below);
+    EXPECT_NEAR(above[2], f.box.lo()[2] + 0.25, 1e-12);
+    EXPECT_DOUBLE_EQ(dvA[2], -rate);      // moved down one box: v - L'
+    EXPECT_DOUBLE_EQ(dvB[2], 3 * rate);   // moved up three boxes: v + 3 L'
+    EXPECT_EQ(dvA[0], 0.0);
+    Vec3 inside{1.0, 1.0, 0.5 * (f.box.lo()[2] + f.box.hi()[2])};
+    EXPECT_EQ(f.box.wrapWithVelocityShift(inside)[2], 0.0);
+    c.setFree(2);
+    c.step(f.box, f.P, t + dt, dt);
+    EXPECT_FALSE(f.box.flowing());
+    c.setFree(0);
+    c.setFree(1);
+    c.step(f.box, f.P, t + 2 * dt, dt);
+    EXPECT_FALSE(f.box.affine());
+}

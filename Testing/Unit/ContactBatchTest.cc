@@ -218,7 +218,12 @@ void comparePairLoops(int nSpecies, unsigned seed, bool record, bool zeroFrictio
     if constexpr (H > 0)
         for (std::size_t k = 0; k < nPairs; ++k) hist[k * H + 3] = pu(g) < 0.5 ? 1.0 : 0.0;
     PeriodicBox box;
-    if (kPeriodic) box.set({0, 0, 0}, {L, L, L}, true, true, true);
+    if (kPeriodic) {
+        box.set({0, 0, 0}, {L, L, L}, true, true, true);
+        // two walls that move without remapping: image partners carry k L' (both loops must add it)
+        box.setFlowRate(0, 0.7);
+        box.setFlowRate(2, -1.3);
+    }
     const MinimumImage img(box);
     const double dt = 1e-7;
     std::vector<Vec3> fA(n), tA(n), fB(n), tB(n);
@@ -234,8 +239,9 @@ void comparePairLoops(int nSpecies, unsigned seed, bool record, bool zeroFrictio
         double dx, dy, dz, d2;
         if (Law::template separation<kPeriodic>(pi[k], pj[k], x.data(), r.data(), img, dx, dy, dz, d2)) {
             ++touching;
-            Law::contact(k, pi[k], pj[k], dx, dy, dz, d2, x.data(), v.data(), w.data(), r.data(), invM.data(),
-                         m.data(), sp.data(), fB.data(), tB.data(), hB.data(), spt, dt, 0.0, record ? &rB : nullptr, eB);
+            Law::template contact<kPeriodic>(k, pi[k], pj[k], dx, dy, dz, d2, x.data(), v.data(), w.data(), r.data(),
+                                             invM.data(), m.data(), sp.data(), fB.data(), tB.data(), hB.data(), img,
+                                             spt, dt, 0.0, record ? &rB : nullptr, eB);
         } else if constexpr (H > 0) {
             for (int q = 0; q < H; ++q) hB[k * H + q] = 0.0;
         }
@@ -319,5 +325,115 @@ TEST(ContactBatch, FrictionPaddingKeepsSingleSpeciesParameters) {
     for (std::size_t q = 0; q < m; ++q) {
         EXPECT_TRUE(std::isfinite(b.Fx[q]) && std::isfinite(b.Fy[q]) && std::isfinite(b.tiz[q]));
         EXPECT_TRUE(std::isfinite(b.h0[q]) && std::isfinite(b.h1[q]));
+    }
+}
+
+namespace {
+struct FlowCase {
+    bool across = false;    ///< a just below the top, b just above the bottom: a touches b's image
+    bool tell = true;       ///< the box knows how it moves (false: the contact loop is not told)
+    bool remapped = false;  ///< the motion as a remapped axis: zero own velocities, affine rate L'/L
+    bool swapped = false;   ///< the pair listed as (b, a): image index -1 instead of +1
+    bool oblique = false;   ///< b half a radius to the side: tilted normal, tangential spring loaded
+};
+/// Two spheres touching along z in a box whose z length grows at L' = 0.5 m/s without remapping,
+/// both moving with the affine flow about the centre, v = L'/L (z - z_c); either in the middle of the
+/// box or across the upper boundary, at the same separation. Two steps (the second sees the spring
+/// of the first). Returns the force on a; its torque in *torque.
+template <class Law>
+Vec3 forceInFlow(const FlowCase& c, Vec3* torque = nullptr) {
+    const double L = 1e-2, rad = 1e-3, overlap = 1e-5, rate = 0.5;
+    PeriodicBox box;
+    box.set({0, 0, 0}, {L, L, L}, true, true, true);
+    if (c.tell && !c.remapped) box.setFlowRate(2, rate);
+    if (c.tell && c.remapped) box.setAffineRate(2, rate / L);
+    const double zc = 0.5 * L, side = c.oblique ? 0.5 * rad : 0.0;
+    const double gap = std::sqrt((2 * rad - overlap) * (2 * rad - overlap) - side * side);  // z distance
+    const double za = c.across ? L - 0.5 * gap : zc - 0.5 * gap;
+    const double zb = c.across ? 0.5 * gap : zc + 0.5 * gap;  // b (or its image b + L) above a
+    std::vector<Vec3> x{{0.004, 0.005, za}, {0.004 + side, 0.005, zb}};
+    std::vector<Vec3> v{{0, 0, rate / L * (za - zc)}, {0, 0, rate / L * (zb - zc)}}, w(2);
+    if (c.remapped) v = {Vec3{}, Vec3{}};
+    std::vector<double> r{rad, rad}, invM(2, 1e5), m(2, 1e-5);
+    std::vector<int32_t> sp{0, 0};
+    SpeciesTable spt;
+    ContactParameters p;
+    p.k = 1e4;
+    p.gamma = 0.2;
+    p.kt = 2e3;
+    p.gammaT = 0.05;
+    p.muS = p.muD = 0.5;
+    p.youngEff = 1e8;
+    p.shearEff = 4e7;
+    p.restitution = 0.5;
+    spt.add("s", 1000, p);
+    std::vector<uint32_t> pi{c.swapped ? 1u : 0u}, pj{c.swapped ? 0u : 1u};
+    std::vector<double> hist(Law::H + 1, 0.0);
+    std::vector<Vec3> f(2), t(2);
+    double e = 0;
+    for (int step = 0; step < 2; ++step) {
+        f.assign(2, Vec3{});
+        t.assign(2, Vec3{});
+        Law::template pairRange<true>(0, 1, pi.data(), pj.data(), x.data(), v.data(), w.data(), r.data(),
+                                      invM.data(), m.data(), sp.data(), f.data(), t.data(), hist.data(),
+                                      MinimumImage(box), spt, 1e-7, 0.0, nullptr, e);
+    }
+    for (int a = 0; a < 3; ++a) EXPECT_DOUBLE_EQ(f[0][a], -f[1][a]);
+    if (torque) *torque = t[0];
+    return f[0];
+}
+void expectSame(const Vec3& a, const Vec3& b, double scale, const std::string& what) {
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-9 * scale) << what << ", component " << k;
+}
+} // namespace
+
+// A periodic axis driven by its walls (no remap): the image of a partner k boxes away moves with
+// v + k L', so a pair sees through the boundary what it sees inside the box; and a remapped axis with
+// the same rate gives the same force (the affine flow is added to the relative velocity). Batched
+// (linear) and scalar (Hertz-Mindlin) loops, image index +1 and -1, a head-on and an oblique contact.
+// Without the shift the dashpot sees L' as a closing velocity.
+TEST(ContactBatch, ImagePartnerMovesWithTheFlowingBoundary) {
+    using HertzMindlin = ComposedLaw<NormalHertz, TangentialMindlin, NoPart, NoPart>;
+    const double L = 1e-2, rad = 1e-3, overlap = 1e-5, k = 1e4, gamma = 0.2, rate = 0.5;
+    const double gap = 2 * rad - overlap;
+    // head-on: the affine flow stretches the contact, overlap rate -L' gap / L; the spring pushes a down
+    const double expected = -(k * overlap - gamma * rate * gap / L);
+    for (bool across : {false, true})
+        for (bool remapped : {false, true})
+            for (bool swapped : {false, true}) {
+                const FlowCase c{across, true, remapped, swapped, false};
+                EXPECT_NEAR(forceInFlow<LinearCoulomb>(c).z, expected, 1e-9 * k * overlap);
+                EXPECT_NEAR(forceInFlow<LinearOnly>(c).z, expected, 1e-9 * k * overlap);
+            }
+    // remapped but the loop not told: the pair moves as a rigid body, no dashpot
+    EXPECT_NEAR(forceInFlow<LinearOnly>({false, false, true, false, false}).z, -k * overlap, 1e-9 * k * overlap);
+    // not told, across the boundary: v_a - v_b = L' (L - gap) / L closes the contact
+    EXPECT_NEAR(forceInFlow<LinearOnly>({true, false, false, false, false}).z,
+                -(k * overlap + gamma * rate * (L - gap) / L), 1e-9 * k * overlap);
+    const Vec3 hIn = forceInFlow<HertzMindlin>({false, true, false, false, false});
+    EXPECT_LT(std::fabs(hIn.x), 1e-15);
+    for (bool remapped : {false, true})
+        for (bool swapped : {false, true})
+            expectSame(forceInFlow<HertzMindlin>({true, true, remapped, swapped, false}), hIn, std::fabs(hIn.z),
+                       "Hertz head-on");
+    EXPECT_GT(std::fabs(forceInFlow<HertzMindlin>({true, false, false, false, false}).z - hIn.z), 1e-3 * std::fabs(hIn.z));
+    // oblique: the flow shears the contact, so the tangential spring and the torque take part
+    for (int law = 0; law < 2; ++law) {
+        Vec3 tIn, t;
+        const FlowCase in{false, true, false, false, true};
+        const Vec3 fIn = law == 0 ? forceInFlow<LinearCoulomb>(in, &tIn) : forceInFlow<HertzMindlin>(in, &tIn);
+        EXPECT_GT(std::fabs(tIn.y), 0.0);
+        EXPECT_GT(std::fabs(fIn.x), 1e-6 * std::fabs(fIn.z));
+        for (bool across : {false, true})
+            for (bool remapped : {false, true})
+                for (bool swapped : {false, true}) {
+                    const FlowCase c{across, true, remapped, swapped, true};
+                    const Vec3 f = law == 0 ? forceInFlow<LinearCoulomb>(c, &t) : forceInFlow<HertzMindlin>(c, &t);
+                    const std::string what = std::string(law == 0 ? "linear" : "Hertz") + " oblique, across " +
+                                             std::to_string(across) + " remapped " + std::to_string(remapped) +
+                                             " swapped " + std::to_string(swapped);
+                    expectSame(f, fIn, norm(fIn), what);
+                    expectSame(t, tIn, norm(tIn), what + " (torque)");
+                }
     }
 }

@@ -3,7 +3,9 @@
 //    bitwise-identical positions, velocities and angular velocities (frictional packing, walls, one
 //    periodic axis, so contact histories and the neighbour list matter);
 //  - the same run with 1 and 2 OpenMP threads is bitwise identical (dense frictional periodic packing,
-//    > 2000 particles, so the slab-parallel force loop is exercised).
+//    > 2000 particles, so the slab-parallel force loop is exercised);
+//  - both again with a deforming box: z wall-driven by the cosine law (images move, particles wrapped
+//    across it would change velocity), x remapped at a constant strain rate (affine flow in the contacts).
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "Boundaries/BoxController.h"
 #include "Contacts/ContactParameters.h"
 #include "Core/DPMBase.h"
 #include "Core/Parameters.h"
@@ -45,7 +48,8 @@ ContactParameters grainContact(double e, double muS, double muD, double gammaTFa
 /// with random velocities and spins; frictional linear law.
 class PackingDriver : public DPMBase {
 public:
-    PackingDriver(int nx, int ny, int nz, bool walls) : DPMBase("KernelPackingDriver"), n_{nx, ny, nz}, walls_(walls) {
+    PackingDriver(int nx, int ny, int nz, bool walls, bool deform = false)
+        : DPMBase("KernelPackingDriver"), n_{nx, ny, nz}, walls_(walls), deform_(deform) {
         parameters().add("steps", &steps_, 100L, "-", "number of time steps", Range::atLeast(1));
         parameters().set("vtk", "0");
     }
@@ -79,13 +83,32 @@ protected:
                 }
         setTimeStep(suggestedTimeStep());
         setTimeMax(static_cast<double>(steps_) * timeStep());
+        configureBox();
     }
-    void actionsOnRestart() override { setTimeMax(static_cast<double>(steps_) * timeStep()); }
+    void actionsOnRestart() override {
+        setTimeMax(static_cast<double>(steps_) * timeStep());
+        configureBox();
+    }
+    void actionsBeforeTimeLoop() override {
+        if (deform_) ctrl_.applyRates(box(), time());
+    }
+    void actionsBeforeTimeStep() override {
+        if (deform_) ctrl_.step(box(), particles(), time(), timeStep());
+    }
 
 private:
+    /// z: 3 % wall-driven compression over the run (cosine law, half a period = 600 steps); x: remapped
+    /// extension at 20 1/s. Depends only on constants, so a restarted run configures the same law.
+    void configureBox() {
+        if (!deform_) return;
+        const double lz = n_[2] * 2 * kR, period = 2 * 600 * timeStep();
+        ctrl_.setCosine(2, lz, 0.97 * lz, period, 0.0, false);
+        ctrl_.setStrainRate(0, 20.0);
+    }
     int n_[3];
-    bool walls_;
+    bool walls_, deform_;
     long steps_ = 0;
+    BoxController ctrl_;
 };
 
 int runWith(DPMBase& d, std::vector<std::string> args) {
@@ -299,4 +322,41 @@ TEST(KernelThreads, OneAndTwoThreadsAreBitwiseIdentical) {
                 9 * one->particles().size(), maxPositionDifference(one->particles(), two->particles()), sliding);
     EXPECT_GT(sliding, 1000);
     EXPECT_EQ(diff, 0);
+}
+
+// A deforming fully periodic box (z wall-driven, x remapped): restarted = straight and 1 thread =
+// 2 threads, bitwise, with the images' flow and the affine term in the contact loops.
+TEST(KernelRestart, DeformingBoxRestartsAndThreadsBitwise) {
+    const std::string dir = "KernelRestartDeformTest";
+    std::filesystem::remove_all(dir);
+    const long N = 300;
+    const int saved = omp_get_max_threads();
+    auto args = [&](const std::string& name, long steps, int threads, const std::string& restart) {
+        std::vector<std::string> a = {"--output", dir, "--quiet", "--threads", std::to_string(threads), "--name", name,
+                                      "--steps", std::to_string(steps)};
+        if (!restart.empty()) a.insert(a.end(), {"--restart", restart});
+        return a;
+    };
+    PackingDriver straight(10, 8, 8, false, true);
+    ASSERT_EQ(runWith(straight, args("straight", 2 * N, 1, "")), 0);
+    EXPECT_TRUE(straight.box().flowing());
+    EXPECT_TRUE(straight.box().affine());
+    EXPECT_LT(straight.box().length().z, 0.99 * 16 * kR);
+    long outside = 0;  // particles that crossed the moving z boundary since the last wrap
+    for (const auto& x : straight.particles().x)
+        if (x.z < straight.box().lo().z || x.z >= straight.box().hi().z) ++outside;
+    std::printf("deforming box: L_z = %.6e m, %ld particles outside [lo, hi) along z at the end\n",
+                straight.box().length().z, outside);
+
+    PackingDriver first(10, 8, 8, false, true);
+    ASSERT_EQ(runWith(first, args("half", N, 1, "")), 0);
+    PackingDriver second(10, 8, 8, false, true);
+    ASSERT_EQ(runWith(second, args("resumed", 2 * N, 1, dir + "/half.restart")), 0);
+    EXPECT_EQ(countDifferences(straight.particles(), second.particles()), 0) << "restart";
+
+    PackingDriver two(10, 8, 8, false, true);
+    ASSERT_EQ(runWith(two, args("two", 2 * N, 2, "")), 0);
+    omp_set_num_threads(saved);
+    EXPECT_EQ(countDifferences(straight.particles(), two.particles()), 0) << "threads";
+    std::filesystem::remove_all(dir);
 }

@@ -18,8 +18,9 @@ ParticleSnapshot particleSnapshot(const DPMBase& d) {
     copyDomain(d, s);
     const ParticleData& P = d.particles();
     s.x = P.x;
-    for (auto& x : s.x) d.box().wrap(x);
     s.v = P.v;
+    // wrapped as the next neighbour-list build would: across a wall-driven boundary the velocity too
+    for (std::size_t i = 0; i < s.x.size(); ++i) s.v[i] += d.box().wrapWithVelocityShift(s.x[i]);
     s.r = P.r;
     s.m = P.m;
     s.omega = P.w;

@@ -212,6 +212,7 @@ void ElementTest::actionsOnRestart() {
 }
 
 void ElementTest::actionsBeforeTimeLoop() {
+    ctrl_.applyRates(box(), time());  // after a restart: the box's motion before the first step
     if (ctrl_.needsStress()) refreshContacts();
 }
 
@@ -289,7 +290,8 @@ void ElementTest::writeOutputFiles() {
     in.strain = {-s.trueStrain.x, -s.trueStrain.y, -s.trueStrain.z};
     in.epsV = -s.volumetricTrue;
     in.epsDev = s.deviatoric;
-    in.kineticEnergy = kineticEnergy() + rotationalEnergy();
+    const double rotational = rotationalEnergy();
+    in.kineticEnergy = kineticEnergy() + rotational;
     in.elasticEnergy = elasticEnergy();
     // flow taken up by the particles: axes whose walls move without remapping the particles, at the
     // cosine law's exact rate now (not the last step's: a row written right after a restart is the same)
@@ -301,7 +303,7 @@ void ElementTest::writeOutputFiles() {
         if (flow[static_cast<std::size_t>(a)]) rate[a] = BoxController::cosineRate(c, time()) / box().length()[a];
     }
     const Vec3 centre = 0.5 * (box().lo() + box().hi());
-    in.fluctuationKineticEnergy = fluctuationKineticEnergy(particles(), rate, centre, flow) + rotationalEnergy();
+    in.fluctuationKineticEnergy = fluctuationKineticEnergy(particles(), rate, centre, flow) + rotational;
     macro_.append(macroRow(computeMacro(particles(), contacts(), in), in));
 }
 
