@@ -224,6 +224,8 @@ void comparePairLoops(int nSpecies, unsigned seed, bool record, bool zeroFrictio
         box.setFlowRate(0, 0.7);
         box.setFlowRate(2, -1.3);
     }
+    box.setAffineRate(1, 40.0);  // remapped axes: the affine flow enters both loops
+    box.setAffineRate(2, -25.0);
     const MinimumImage img(box);
     const double dt = 1e-7;
     std::vector<Vec3> fA(n), tA(n), fB(n), tB(n);
