@@ -81,17 +81,7 @@ void PeriodicBox::scaleAboutCentre(const Vec3& s, ParticleData* remap) {
     setAxes(lo, hi, {true, true, true}, {true, true, true}, remap);
 }
 
-void PeriodicBox::wrap(Vec3& x) const {
-    for (int a = 0; a < 3; ++a) {
-        if (!periodic_[a]) continue;
-        double& c = x[a];
-        if (c < lo_[a] || c >= hi_[a]) {
-            c -= len_[a] * std::floor((c - lo_[a]) / len_[a]);
-            if (c >= hi_[a]) c -= len_[a];  // guard against round-off
-            if (c < lo_[a]) c = lo_[a];
-        }
-    }
-}
+void PeriodicBox::wrap(Vec3& x) const { (void)wrapWithVelocityShift(x); }
 
 Vec3 PeriodicBox::wrapWithVelocityShift(Vec3& x) const {
     Vec3 dv{};
