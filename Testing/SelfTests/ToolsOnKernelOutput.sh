@@ -11,8 +11,13 @@ cd "$work"
 "$bin/SettlingColumn" --output run --fstat 1 --quiet --threads 1 --time_max 0.15 > run.log
 "$bin/pdpm-cg" --input run/SettlingColumn.pvd run/SettlingColumn.fstat --output cg --nz 30 --tmin 0.1 \
   --format csv > cg.log
-"$bin/pdpm-polar" --input run/SettlingColumn.fstat --output polar --plot none > polar.log 2> polar.err
-[[ -s cg/cg.csv && -s polar/polar_series.csv ]] || { echo "FAIL: tool outputs missing"; exit 1; }
+"$bin/pdpm-polar" --input run/SettlingColumn.fstat --output polar --plot none --layers 4 > polar.log 2> polar.err
+[[ -s cg/cg.csv && -s polar/polar_series.csv && -s polar/polar_layers.csv ]] || { echo "FAIL: tool outputs missing"; exit 1; }
+# the layer file: 4 rows per analysed block, and contacts in it (the bed touches the bottom layer)
+blocks=$(($(wc -l < polar/polar_series.csv) - 1))
+rows=$(($(wc -l < polar/polar_layers.csv) - 1))
+[[ $rows -eq $((4 * blocks)) ]] || { echo "FAIL: $rows layer rows for $blocks blocks (expected 4 each)"; exit 1; }
+awk -F, 'NR > 1 { n += $6 } END { exit (n > 0 ? 0 : 1) }' polar/polar_layers.csv || { echo "FAIL: no contacts in the layers"; exit 1; }
 # material in the profile: the largest coarse-grained density is that of a packed bed
 awk -F, '!/^#/ && NR > 2 { if ($2 > m) m = $2 } END { printf "max rho %.1f kg/m3\n", m; exit (m > 100 ? 0 : 1) }' cg/cg.csv \
   || { echo "FAIL: no material in the coarse-grained profile"; exit 1; }

@@ -1,6 +1,7 @@
 // pdpm-polar: directional statistics of contacts and forces from RUN.fstat.
 // See Documentation/tools-polar.md.
 #include "Cli.h"
+#include "Layers.h"
 #include "Core/Error.h"
 #include "OutputFiles.h"
 #include "Polar.h"
@@ -16,7 +17,7 @@ using namespace pdpm::tools;
 
 namespace {
 
-void writePlots(const std::string& dir, const std::string& name, const std::string& term, const std::string& xcol) {
+void writePlots(const std::string& dir, const std::string& name, const std::string& term, const std::string& xcol, bool layers) {
     const std::string ext = term == "svg" ? "svg" : "png";
     const std::string terminal = term == "svg" ? "svg size 640,480" : "pngcairo size 640,480 font ',10'";
     const std::string gp = joinPath(dir, name + "_plots.gp");
@@ -51,6 +52,15 @@ void writePlots(const std::string& dir, const std::string& name, const std::stri
            << "set output '" << name << "_pdf.' . '" << ext << "'\n"
            << "set title 'normal force pdf in cones'\nset xlabel 'f/<f_{all}>'\nset ylabel 'P'\nset logscale y\n"
            << "plot for [c in 'P_x P_y P_z P_all'] pdf using 'fstar':c w lp ps 0.5 t c\n";
+        if (layers)
+            os << "unset logscale y\nset key inside top right\nlayers = '" << name << "_layers.csv'\nstats layers using 1 nooutput\ntlast = STATS_max\n"
+               << "set output '" << name << "_layers.' . '" << ext << "'\n"
+               << "set title 'by distance from the nearest face along the axis (last block)'\n"
+               << "set xlabel 'distance from the nearest face / box length'\nset ylabel 'friction mobilisation, s_{dev}'\n"
+               << "set y2label 'sliding fraction'\nset y2tics\nset yrange [0:*]\nset y2range [0:*]\n"
+               << "plot layers using ($1 == tlast ? ($4+$5)/2 : NaN):'psi' w lp pt 7 t '|f_t|/({/Symbol m} f_n)', \\\n"
+               << "     layers using ($1 == tlast ? ($4+$5)/2 : NaN):'s_dev' w lp pt 5 t 's_{dev} of the layer', \\\n"
+               << "     layers using ($1 == tlast ? ($4+$5)/2 : NaN):'sliding_fraction' axes x1y2 w lp pt 6 dt 2 t 'sliding fraction'\n";
     });
     const std::string cmd = "cd '" + (dir.empty() ? std::string(".") : dir) + "' && gnuplot '" + name + "_plots.gp' 2>/dev/null";
     if (std::system(cmd.c_str()) != 0)
@@ -67,6 +77,7 @@ int run(int argc, char** argv) {
     int binsTheta, binsHeight, pdfBins;
     double mu, chi, pdfMax;
     bool walls, allBins;
+    int layers;
     cli.addList("input", &inputs, "contact files RUN.fstat (all blocks are analysed)");
     cli.add("output", &output, ".", "output directory (created if needed)");
     cli.add("name", &name, "polar", "base name of the output files");
@@ -80,6 +91,7 @@ int run(int argc, char** argv) {
     cli.add("pdf_bins", &pdfBins, 50, "bins of the force pdf", 1, 100000);
     cli.add("pdf_max", &pdfMax, 5, "", "largest f/<f_all> of the force pdf", 0, Cli::inf, true);
     cli.add("all_bins", &allBins, false, "write NAME_bins_NNNN.csv for every block (default: last block only)");
+    cli.add("layers", &layers, 0, "layers by distance from the nearest face of the box along the axis (x, y or z): NAME_layers.csv (0: none)", 0, 100000);
     cli.add("plot", &plot, "png", "plots made with gnuplot", {"png", "svg", "none"});
     cli.add("x_column", &xcol, "strain_dev", "x axis of the epsilon plot", {"strain_dev", "strain_axial", "time"});
     if (!cli.parse(argc, argv, std::cout)) return 0;
@@ -104,6 +116,12 @@ int run(int argc, char** argv) {
     cfg.pdfBins = pdfBins;
     cfg.pdfMax = pdfMax;
 
+    int layerAxis = -1;
+    if (layers > 0) {
+        if (axis != "x" && axis != "y" && axis != "z") inputError("--layers: needs --axis x, y or z (the layers are slabs of the box)");
+        layerAxis = axis[0] - 'x';
+    }
+
     std::vector<ContactSnapshot> blocks;
     for (const std::string& p : inputs) {
         for (auto& b : readFstat(p)) blocks.push_back(std::move(b));
@@ -111,7 +129,8 @@ int run(int argc, char** argv) {
     ensureDirectory(output);
     const Vec3 L0 = blocks[0].boxHi - blocks[0].boxLo;
     const Vec3 e = cfg.axis / norm(cfg.axis);
-    std::vector<std::string> rows;
+    std::vector<std::string> rows, layerRows;
+    std::vector<LayerStats> lastLayers;
     PolarResult last;
     std::size_t analysed = 0;
     for (std::size_t k = 0; k < blocks.size(); ++k) {
@@ -130,6 +149,11 @@ int run(int argc, char** argv) {
         const double axial = -(e.x * e.x * ev[0] + e.y * e.y * ev[1] + e.z * e.z * ev[2]);  // compression positive
         const double dev = std::sqrt((std::pow(ev[0] - ev[1], 2) + std::pow(ev[1] - ev[2], 2) + std::pow(ev[2] - ev[0], 2)) / 2);
         rows.push_back(polarSeriesRow(r, axial, dev));
+        if (layerAxis >= 0) {
+            lastLayers = analyseLayers(blocks[k], layerAxis, layers, mu, walls);
+            for (std::size_t q = 0; q < lastLayers.size(); ++q)
+                layerRows.push_back(layersRow(blocks[k].time, axial, static_cast<int>(q), lastLayers[q]));
+        }
         if (allBins) {
             char buf[32];
             std::snprintf(buf, sizeof buf, "_bins_%04zu.csv", k);
@@ -142,12 +166,22 @@ int run(int argc, char** argv) {
         os << polarSeriesHeader() << "\n";
         for (const auto& row : rows) os << row << "\n";
     });
+    if (layerAxis >= 0)
+        writeFileAtomically(joinPath(output, name + "_layers.csv"), [&](std::ostream& os) {
+            os << layersHeader() << "\n";
+            for (const auto& row : layerRows) os << row << "\n";
+        });
     writePolarBinsCsv(joinPath(output, name + "_bins.csv"), last);
     writePolarPdfCsv(joinPath(output, name + "_pdf.csv"), last);
     std::cout << "pdpm-polar: " << blocks.size() << " block(s); last t = " << fmt(last.time) << ", " << last.contacts
               << " contacts; eps2,4,6 (M1) = " << fmt(last.m1.eps[0]) << ", " << fmt(last.m1.eps[1]) << ", "
               << fmt(last.m1.eps[2]) << "\n";
-    if (plot != "none") writePlots(output, name, plot, xcol);
+    if (layerAxis >= 0) {
+        std::cout << "pdpm-polar: last block by distance from the nearest " << axis << " face (layer: mobilisation, s_dev):";
+        for (const LayerStats& l : lastLayers) std::cout << "  " << fmt(l.lo) << "-" << fmt(l.hi) << ": " << fmt(l.psi) << ", " << fmt(l.sDev);
+        std::cout << "\n";
+    }
+    if (plot != "none") writePlots(output, name, plot, xcol, layerAxis >= 0);
     return 0;
 }
 

@@ -1,0 +1,82 @@
+#include "Layers.h"
+
+#include "Core/Error.h"
+#include "OutputFiles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace pdpm::tools {
+
+std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis, int layers, double mu, bool includeWalls) {
+    if (axis < 0 || axis > 2) inputError("layers: the axis must be x, y or z");
+    if (layers < 1) inputError("layers: at least one layer is needed");
+    if (!(mu > 0) || !std::isfinite(mu)) inputError("layers: mu must be positive for the mobilisation |f_t|/(mu f_n)");
+    const Vec3 L = snapshot.boxHi - snapshot.boxLo;
+    const double volume = L.x * L.y * L.z;
+    if (!(L[axis] > 0) || !(volume > 0)) inputError("layers: the snapshot's box has no volume");
+
+    std::vector<LayerStats> out(static_cast<std::size_t>(layers));
+    std::vector<double> psiSum(out.size(), 0.0);
+    std::vector<int> slidingCount(out.size(), 0);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        out[k].lo = 0.5 * static_cast<double>(k) / layers;
+        out[k].hi = 0.5 * static_cast<double>(k + 1) / layers;
+    }
+    for (const ContactRecord& c : snapshot.contacts) {
+        if (c.isWallContact() && !includeWalls) continue;
+        if (!(c.fn > 0)) continue;
+        double s = std::fmod(c.contactPoint[axis] - snapshot.boxLo[axis], L[axis]);
+        if (s < 0) s += L[axis];
+        const double d = std::min(s, L[axis] - s) / L[axis];
+        const std::size_t k = std::min(out.size() - 1, static_cast<std::size_t>(d * 2 * layers));
+        LayerStats& layer = out[k];
+        ++layer.contacts;
+        psiSum[k] += norm(c.ft) / (mu * c.fn);
+        slidingCount[k] += c.sliding ? 1 : 0;
+        const Vec3 f = c.force();
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) layer.sigma[a][b] += f[a] * c.branch[b];
+    }
+    const double layerVolume = volume / layers;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        LayerStats& layer = out[k];
+        if (layer.contacts == 0) continue;
+        layer.psi = psiSum[k] / layer.contacts;
+        layer.sliding = static_cast<double>(slidingCount[k]) / layer.contacts;
+        auto& S = layer.sigma;
+        for (int a = 0; a < 3; ++a)
+            for (int b = a; b < 3; ++b) {
+                const double sym = 0.5 * (S[a][b] + S[b][a]) / layerVolume;
+                S[a][b] = S[b][a] = sym;
+            }
+        layer.p = (S[0][0] + S[1][1] + S[2][2]) / 3;
+        double j2 = 0;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) {
+                const double dev = S[a][b] - (a == b ? layer.p : 0.0);
+                j2 += 0.5 * dev * dev;
+            }
+        layer.sDev = layer.p != 0 ? std::sqrt(3 * j2) / std::abs(layer.p) : 0.0;
+        const double lateral = 0.5 * (S[(axis + 1) % 3][(axis + 1) % 3] + S[(axis + 2) % 3][(axis + 2) % 3]);
+        layer.axialOverLateral = lateral != 0 ? S[axis][axis] / lateral : 0.0;
+    }
+    return out;
+}
+
+std::string layersHeader() {
+    return "time,strain_axial,layer,d_lo,d_hi,contacts,psi,sliding_fraction,p,s_dev,axial_over_lateral,"
+           "sigma_xx,sigma_yy,sigma_zz,sigma_xy,sigma_xz,sigma_yz";
+}
+
+std::string layersRow(double time, double axialStrain, int index, const LayerStats& s) {
+    std::ostringstream os;
+    os << fmt(time) << ',' << fmt(axialStrain) << ',' << index << ',' << fmt(s.lo) << ',' << fmt(s.hi) << ',' << s.contacts << ','
+       << fmt(s.psi) << ',' << fmt(s.sliding) << ',' << fmt(s.p) << ',' << fmt(s.sDev) << ',' << fmt(s.axialOverLateral) << ','
+       << fmt(s.sigma[0][0]) << ',' << fmt(s.sigma[1][1]) << ',' << fmt(s.sigma[2][2]) << ',' << fmt(s.sigma[0][1]) << ','
+       << fmt(s.sigma[0][2]) << ',' << fmt(s.sigma[1][2]);
+    return os.str();
+}
+
+} // namespace pdpm::tools
