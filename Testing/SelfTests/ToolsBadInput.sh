@@ -37,6 +37,11 @@ expect2 "polar malformed"      "$POLAR" --input "$work/bad.fstat" --plot none
 expect2 "polar wrong type"     "$POLAR" --input "$work/bad.vtu" --plot none
 expect2 "polar bad chi"        "$POLAR" --input "$work/good.fstat" --chi 1.5
 expect2 "polar zero axis"      "$POLAR" --input "$work/good.fstat" --axis 0,0,0 --plot none
+expect2 "polar layers oblique" "$POLAR" --input "$work/good.fstat" --layers 3 --axis 1,0,0 --plot none --output "$work/lay"
+expect2 "polar layers negative" "$POLAR" --input "$work/good.fstat" --layers -1 --plot none --output "$work/lay"
+printf '# time 0 step 0 contacts 1\n# box 0 1 0 1 0 0 periodic 0 0 0\n0 1 0.5 0.5 0.5 0.01 0 0 1 1 0 0 0 0 0 0.1 0\n' > "$work/flat.fstat"
+expect2 "polar layers flat box" "$POLAR" --input "$work/flat.fstat" --layers 3 --plot none --output "$work/lay"
+[ -e "$work/lay" ] && { echo "FAIL: refused --layers runs left $work/lay behind"; fail=1; }
 "$CG" --help >/dev/null || { echo "FAIL: cg --help"; fail=1; }
 "$POLAR" --help >/dev/null || { echo "FAIL: polar --help"; fail=1; }
 exit $fail

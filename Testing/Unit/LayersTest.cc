@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 using namespace pdpm;
@@ -40,6 +41,7 @@ ContactSnapshot handMade() {
     s.contacts.push_back(contactAt(0.3, {0, 0, 1}, 2, {0, 0, 0}, {0, 0, 0.1}));
     s.contacts.push_back(contactAt(-0.4, {1, 0, 0}, 1, {0, 0, 0}, {0.1, 0, 0}));
     // a wall contact in the middle (ignored unless walls are included) and a contact without force
+    // (in the stress and the count, not among the loaded contacts)
     s.contacts.push_back(contactAt(0.5, {0, 0, 1}, 10, {0, 0, 0}, {0, 0, 0.1}, false, -1));
     s.contacts.push_back(contactAt(0.5, {0, 0, 1}, 0, {0, 0, 0}, {0, 0, 0.1}));
     return s;
@@ -61,7 +63,8 @@ TEST(Layers, MobilisationAndStressOfHandMadeContacts) {
     // zz = 2 * 0.1 / 0.5 = 0.4, xx = 1 * 0.1 / 0.5 = 0.2, yy = 0; p = 0.2;
     // deviator diag(0, -0.2, 0.2): sqrt(3 J2) = sqrt(3 * 0.04) -> s_dev = sqrt(0.12)/0.2;
     // axial over lateral = 0.4 / ((0.2 + 0)/2) = 4
-    EXPECT_EQ(layers[1].contacts, 2);
+    EXPECT_EQ(layers[1].contacts, 3);
+    EXPECT_EQ(layers[1].loaded, 2);
     EXPECT_DOUBLE_EQ(layers[1].psi, 0.0);
     EXPECT_DOUBLE_EQ(layers[1].sliding, 0.0);
     EXPECT_NEAR(layers[1].sigma[2][2], 0.4, 1e-15);
@@ -79,7 +82,8 @@ TEST(Layers, MobilisationAndStressOfHandMadeContacts) {
 
 TEST(Layers, WallContactsOnlyWhenAsked) {
     const auto with = analyseLayers(handMade(), 2, 2, 0.5, true);
-    EXPECT_EQ(with[1].contacts, 3);
+    EXPECT_EQ(with[1].contacts, 4);
+    EXPECT_EQ(with[1].loaded, 3);
     EXPECT_NEAR(with[1].sigma[2][2], (2 + 10) * 0.1 / 0.5, 1e-15);
 }
 
@@ -98,6 +102,60 @@ TEST(Layers, ShiftingEveryContactByABoxLengthChangesNothing) {
     }
 }
 
+TEST(Layers, OffsetBoxAlongXAndTheMeanOfTheLayersIsTheWholeSample) {
+    // box [-1, 1] x [2, 5] x [0.5, 4.5] (L = 2, 3, 4, V = 24), layers along x
+    ContactSnapshot s;
+    s.boxLo = {-1, 2, 0.5};
+    s.boxHi = {1, 5, 4.5};
+    // one contact at x = -0.9 (d = 0.1 of 2: d/L = 0.05), one at x = 0.1 (d/L = 0.45), along x and y
+    ContactRecord a = contactAt(0, {1, 0, 0}, 3, {0, 0.5, 0}, {0.2, 0, 0});
+    a.contactPoint = {-0.9, 3, 1};
+    ContactRecord b = contactAt(0, {0, 1, 0}, 2, {0, 0, 0}, {0, 0.2, 0});
+    b.contactPoint = {0.1, 4, 4};
+    // a tensile contact (f_n < 0: adhesion, or an unclipped dashpot) in the second layer
+    ContactRecord c = contactAt(0, {1, 0, 0}, -1, {0, 0, 0}, {0.2, 0, 0});
+    c.contactPoint = {-0.2, 2.5, 3};  // d = 0.8 of 2: d/L = 0.4
+    s.contacts = {a, b, c};
+    const auto two = analyseLayers(s, 0, 2, 0.5, false);
+    // V_layer = 12: layer 0 (d/L < 0.25) holds a: xx = 3 * 0.2 / 12 = 0.05, yx sym = 0.5 * 0.5 * 0.2 / 12
+    EXPECT_EQ(two[0].contacts, 1);
+    EXPECT_NEAR(two[0].sigma[0][0], 0.05, 1e-15);
+    EXPECT_NEAR(two[0].sigma[0][1], 0.05 / 12, 1e-15);
+    EXPECT_NEAR(two[0].psi, 0.5 / (0.5 * 3), 1e-15);
+    // layer 1 holds b and c: yy = 2 * 0.2 / 12, xx = -1 * 0.2 / 12; psi over b alone (c is not loaded)
+    EXPECT_EQ(two[1].contacts, 2);
+    EXPECT_EQ(two[1].loaded, 1);
+    EXPECT_NEAR(two[1].sigma[1][1], 0.4 / 12, 1e-15);
+    EXPECT_NEAR(two[1].sigma[0][0], -0.2 / 12, 1e-15);
+    EXPECT_DOUBLE_EQ(two[1].psi, 0.0);
+    // axial (x) over lateral: layer 0 has no lateral stress -> not a number; layer 1: (-0.2/12) / (0.2/12)
+    EXPECT_TRUE(std::isnan(two[0].axialOverLateral));
+    EXPECT_NEAR(two[1].axialOverLateral, -1.0, 1e-12);
+    // the mean of the layers' stress is (1/V) sum f (x) b over all contacts, for any number of layers
+    for (int n : {1, 3, 7}) {
+        const auto layers = analyseLayers(s, 0, n, 0.5, false);
+        std::array<std::array<double, 3>, 3> mean{};
+        for (const auto& l : layers)
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) mean[i][j] += l.sigma[i][j] / n;
+        EXPECT_NEAR(mean[0][0], (3 * 0.2 - 1 * 0.2) / 24, 1e-15) << n;
+        EXPECT_NEAR(mean[1][1], 2 * 0.2 / 24, 1e-15) << n;
+        EXPECT_NEAR(mean[0][1], 0.5 * 0.5 * 0.2 / 24, 1e-15) << n;
+        EXPECT_NEAR(mean[2][2], 0.0, 1e-15) << n;
+    }
+}
+
+TEST(Layers, EmptyLayersAreNotNumbers) {
+    const auto layers = analyseLayers(handMade(), 2, 50, 0.5, false);
+    int empty = 0;
+    for (const auto& l : layers)
+        if (l.contacts == 0) {
+            ++empty;
+            EXPECT_TRUE(std::isnan(l.psi) && std::isnan(l.sliding) && std::isnan(l.sDev) && std::isnan(l.axialOverLateral));
+        }
+    EXPECT_GT(empty, 40);
+}
+
 TEST(Layers, BadArgumentsAreRefused) {
     const ContactSnapshot s = handMade();
     EXPECT_THROW(analyseLayers(s, 3, 2, 0.5, false), InputError);
@@ -106,4 +164,7 @@ TEST(Layers, BadArgumentsAreRefused) {
     ContactSnapshot flat = s;
     flat.boxHi.z = 0;
     EXPECT_THROW(analyseLayers(flat, 2, 2, 0.5, false), InputError);
+    ContactSnapshot inverted = s;  // two negative extents: a positive product, still no box
+    inverted.boxHi.x = inverted.boxHi.y = -1;
+    EXPECT_THROW(analyseLayers(inverted, 2, 2, 0.5, false), InputError);
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace pdpm::tools {
@@ -15,7 +16,8 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
     if (!(mu > 0) || !std::isfinite(mu)) inputError("layers: mu must be positive for the mobilisation |f_t|/(mu f_n)");
     const Vec3 L = snapshot.boxHi - snapshot.boxLo;
     const double volume = L.x * L.y * L.z;
-    if (!(L[axis] > 0) || !(volume > 0)) inputError("layers: the snapshot's box has no volume");
+    if (!(L.x > 0) || !(L.y > 0) || !(L.z > 0) || !std::isfinite(volume))
+        inputError("layers: the snapshot's box (t = " + fmt(snapshot.time) + " s) has no volume");
 
     std::vector<LayerStats> out(static_cast<std::size_t>(layers));
     std::vector<double> psiSum(out.size(), 0.0);
@@ -26,15 +28,17 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
     }
     for (const ContactRecord& c : snapshot.contacts) {
         if (c.isWallContact() && !includeWalls) continue;
-        if (!(c.fn > 0)) continue;
         double s = std::fmod(c.contactPoint[axis] - snapshot.boxLo[axis], L[axis]);
         if (s < 0) s += L[axis];
         const double d = std::min(s, L[axis] - s) / L[axis];
         const std::size_t k = std::min(out.size() - 1, static_cast<std::size_t>(d * 2 * layers));
         LayerStats& layer = out[k];
         ++layer.contacts;
-        psiSum[k] += norm(c.ft) / (mu * c.fn);
-        slidingCount[k] += c.sliding ? 1 : 0;
+        if (c.fn > 0) {
+            ++layer.loaded;
+            psiSum[k] += norm(c.ft) / (mu * c.fn);
+            slidingCount[k] += c.sliding ? 1 : 0;
+        }
         const Vec3 f = c.force();
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b) layer.sigma[a][b] += f[a] * c.branch[b];
@@ -42,9 +46,13 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
     const double layerVolume = volume / layers;
     for (std::size_t k = 0; k < out.size(); ++k) {
         LayerStats& layer = out[k];
-        if (layer.contacts == 0) continue;
-        layer.psi = psiSum[k] / layer.contacts;
-        layer.sliding = static_cast<double>(slidingCount[k]) / layer.contacts;
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        layer.psi = layer.loaded > 0 ? psiSum[k] / layer.loaded : nan;
+        layer.sliding = layer.loaded > 0 ? static_cast<double>(slidingCount[k]) / layer.loaded : nan;
+        if (layer.contacts == 0) {
+            layer.sDev = layer.axialOverLateral = nan;
+            continue;
+        }
         auto& S = layer.sigma;
         for (int a = 0; a < 3; ++a)
             for (int b = a; b < 3; ++b) {
@@ -58,22 +66,22 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
                 const double dev = S[a][b] - (a == b ? layer.p : 0.0);
                 j2 += 0.5 * dev * dev;
             }
-        layer.sDev = layer.p != 0 ? std::sqrt(3 * j2) / std::abs(layer.p) : 0.0;
+        layer.sDev = layer.p != 0 ? std::sqrt(3 * j2) / layer.p : nan;
         const double lateral = 0.5 * (S[(axis + 1) % 3][(axis + 1) % 3] + S[(axis + 2) % 3][(axis + 2) % 3]);
-        layer.axialOverLateral = lateral != 0 ? S[axis][axis] / lateral : 0.0;
+        layer.axialOverLateral = lateral != 0 ? S[axis][axis] / lateral : nan;
     }
     return out;
 }
 
 std::string layersHeader() {
-    return "time,strain_axial,layer,d_lo,d_hi,contacts,psi,sliding_fraction,p,s_dev,axial_over_lateral,"
+    return "block,time,strain_axial,layer,d_lo,d_hi,contacts,loaded_contacts,psi,sliding_fraction,p,s_dev,axial_over_lateral,"
            "sigma_xx,sigma_yy,sigma_zz,sigma_xy,sigma_xz,sigma_yz";
 }
 
-std::string layersRow(double time, double axialStrain, int index, const LayerStats& s) {
+std::string layersRow(int block, double time, double axialStrain, int index, const LayerStats& s) {
     std::ostringstream os;
-    os << fmt(time) << ',' << fmt(axialStrain) << ',' << index << ',' << fmt(s.lo) << ',' << fmt(s.hi) << ',' << s.contacts << ','
-       << fmt(s.psi) << ',' << fmt(s.sliding) << ',' << fmt(s.p) << ',' << fmt(s.sDev) << ',' << fmt(s.axialOverLateral) << ','
+    os << block << ',' << fmt(time) << ',' << fmt(axialStrain) << ',' << index << ',' << fmt(s.lo) << ',' << fmt(s.hi) << ','
+       << s.contacts << ',' << s.loaded << ',' << fmt(s.psi) << ',' << fmt(s.sliding) << ',' << fmt(s.p) << ',' << fmt(s.sDev) << ',' << fmt(s.axialOverLateral) << ','
        << fmt(s.sigma[0][0]) << ',' << fmt(s.sigma[1][1]) << ',' << fmt(s.sigma[2][2]) << ',' << fmt(s.sigma[0][1]) << ','
        << fmt(s.sigma[0][2]) << ',' << fmt(s.sigma[1][2]);
     return os.str();

@@ -16,25 +16,28 @@ namespace pdpm::tools {
 /// 1/n of the box volume each for n layers).
 struct LayerStats {
     double lo = 0, hi = 0;         ///< distance range as a fraction of the box length L along the axis
-    int contacts = 0;              ///< contacts with f_n > 0 (particle-particle unless walls are included)
-    double psi = 0;                ///< mean |f_t| / (mu f_n)
-    double sliding = 0;            ///< fraction of the contacts at the Coulomb limit (the fstat flag)
-    /// Stress of the layer, sigma = (1/V_layer) sum f (x) b over its contacts (compression positive),
-    /// symmetrised; V_layer = V / n.
+    int contacts = 0;              ///< contacts in the layer (particle-particle unless walls are included), all in sigma
+    int loaded = 0;                ///< of these, the contacts with f_n > 0 (psi and the sliding fraction are over these)
+    double psi = 0;                ///< mean |f_t| / (mu f_n) (NaN without loaded contacts)
+    double sliding = 0;            ///< fraction of the loaded contacts at the Coulomb limit (the fstat flag; NaN without)
+    /// Stress of the layer, sigma = (1/V_layer) sum f (x) b over all its contacts, tensile ones included
+    /// as in the whole-sample stress of Tools/MicroMacro (compression positive), symmetrised;
+    /// V_layer = V / n, so that the mean of the layers' sigma is the whole sample's.
     std::array<std::array<double, 3>, 3> sigma{};
     double p = 0;                  ///< tr(sigma)/3 (Pa)
-    double sDev = 0;               ///< sqrt(3 J2)/p (Eq. 3.14 over p)
-    double axialOverLateral = 0;   ///< sigma_aa / mean of the other two normal stresses
+    double sDev = 0;               ///< sqrt(3 J2)/p (Eq. 3.14 over p, signed p as in Tools/MicroMacro; NaN without contacts)
+    double axialOverLateral = 0;   ///< sigma_aa / mean of the other two normal stresses (NaN without contacts)
 };
 
 /// Layer statistics of one contact snapshot: `axis` 0, 1 or 2, `layers` >= 1 bins of equal width on
 /// d/L in [0, 1/2], mu > 0 for psi; contact points outside the box (image contacts) are wrapped back.
-/// Throws InputError for a bad axis, layer count, mu, or a box without volume.
+/// Throws InputError for a bad axis, layer count, mu, or a box without volume (every extent must be positive).
 std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis, int layers, double mu, bool includeWalls);
 
 /// CSV of several snapshots: header and one row per (snapshot, layer), columns documented in
 /// tools-polar.md.
 std::string layersHeader();
-std::string layersRow(double time, double axialStrain, int index, const LayerStats& s);
+/// `block`: the index of the snapshot among those analysed (the plot shows the largest).
+std::string layersRow(int block, double time, double axialStrain, int index, const LayerStats& s);
 
 } // namespace pdpm::tools

@@ -53,14 +53,14 @@ void writePlots(const std::string& dir, const std::string& name, const std::stri
            << "set title 'normal force pdf in cones'\nset xlabel 'f/<f_{all}>'\nset ylabel 'P'\nset logscale y\n"
            << "plot for [c in 'P_x P_y P_z P_all'] pdf using 'fstar':c w lp ps 0.5 t c\n";
         if (layers)
-            os << "unset logscale y\nset key inside top right\nlayers = '" << name << "_layers.csv'\nstats layers using 1 nooutput\ntlast = STATS_max\n"
+            os << "unset logscale y\nset key inside top right\nlayers = '" << name << "_layers.csv'\nstats layers using 1 nooutput\nblast = STATS_max\n"
                << "set output '" << name << "_layers.' . '" << ext << "'\n"
-               << "set title 'by distance from the nearest face along the axis (last block)'\n"
+               << "set title 'by distance from the nearest face along the axis (last analysed block)'\n"
                << "set xlabel 'distance from the nearest face / box length'\nset ylabel 'friction mobilisation, s_{dev}'\n"
                << "set y2label 'sliding fraction'\nset y2tics\nset yrange [0:*]\nset y2range [0:*]\n"
-               << "plot layers using ($1 == tlast ? ($4+$5)/2 : NaN):'psi' w lp pt 7 t '|f_t|/({/Symbol m} f_n)', \\\n"
-               << "     layers using ($1 == tlast ? ($4+$5)/2 : NaN):'s_dev' w lp pt 5 t 's_{dev} of the layer', \\\n"
-               << "     layers using ($1 == tlast ? ($4+$5)/2 : NaN):'sliding_fraction' axes x1y2 w lp pt 6 dt 2 t 'sliding fraction'\n";
+               << "plot layers using ($1 == blast ? ($5+$6)/2 : NaN):'psi' w lp pt 7 t '|f_t|/({/Symbol m} f_n)', \\\n"
+               << "     layers using ($1 == blast ? ($5+$6)/2 : NaN):'s_dev' w lp pt 5 t 's_{dev} of the layer', \\\n"
+               << "     layers using ($1 == blast ? ($5+$6)/2 : NaN):'sliding_fraction' axes x1y2 w lp pt 6 dt 2 t 'sliding fraction'\n";
     });
     const std::string cmd = "cd '" + (dir.empty() ? std::string(".") : dir) + "' && gnuplot '" + name + "_plots.gp' 2>/dev/null";
     if (std::system(cmd.c_str()) != 0)
@@ -126,6 +126,12 @@ int run(int argc, char** argv) {
     for (const std::string& p : inputs) {
         for (auto& b : readFstat(p)) blocks.push_back(std::move(b));
     }
+    if (layerAxis >= 0)  // refused before anything is written
+        for (const auto& b : blocks) {
+            const Vec3 L = b.boxHi - b.boxLo;
+            if (!(L.x > 0) || !(L.y > 0) || !(L.z > 0))
+                inputError("--layers: the box of the block at t = " + fmt(b.time) + " s has no volume");
+        }
     ensureDirectory(output);
     const Vec3 L0 = blocks[0].boxHi - blocks[0].boxLo;
     const Vec3 e = cfg.axis / norm(cfg.axis);
@@ -152,7 +158,7 @@ int run(int argc, char** argv) {
         if (layerAxis >= 0) {
             lastLayers = analyseLayers(blocks[k], layerAxis, layers, mu, walls);
             for (std::size_t q = 0; q < lastLayers.size(); ++q)
-                layerRows.push_back(layersRow(blocks[k].time, axial, static_cast<int>(q), lastLayers[q]));
+                layerRows.push_back(layersRow(static_cast<int>(analysed - 1), blocks[k].time, axial, static_cast<int>(q), lastLayers[q]));
         }
         if (allBins) {
             char buf[32];
