@@ -185,6 +185,42 @@ TEST(MicroMacro, FrictionMobilisationClasses) {
     EXPECT_EQ(r0.wsl + r0.wst + r0.ssl + r0.sst + r0.mobilisation, 0.0);
 }
 
+// Mobilisation of the face layer (within 0.1 L of a face of a moving axis) over the rest.
+TEST(MicroMacro, MobilisationFaceRatio) {
+    Star s(std::vector<Vec3>{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}}, {1, 1, 1, 2});
+    s.C[0].ft = {0, 0.5, 0};  // psi 1
+    s.C[1].ft = {0, 0, 0.4};  // psi 0.8
+    s.C[2].ft = {0.2, 0, 0};  // psi 0.4
+    s.C[3].ft = {0, 0.2, 0};  // psi 0.2
+    // box [0, 10] x [-5, 5] x [2, 6]; contact points: z = 2.3 (d = 0.3 of 4: 0.075 L, face layer),
+    // z = 7.9 (wraps to 3.9, d = 1.9: inner), z = -1.8 (wraps to 2.2, d = 0.2: face layer), z = 4 (inner)
+    s.C[0].point = {5, 0, 2.3};
+    s.C[1].point = {5, 0, 7.9};
+    s.C[2].point = {5, 0, -1.8};
+    s.C[3].point = {5, 0, 4};
+    MacroInput in;
+    in.volume = 400;
+    in.mu = 0.5;
+    in.boxLo = {0, -5, 2};
+    in.boxHi = {10, 5, 6};
+    // no face axis: not defined
+    EXPECT_EQ(computeMacro(s.P, s.C, in).mobilisationFaceRatio, 0.0);
+    in.faceAxes = {false, false, true};
+    // face layer (1 + 0.4)/2 = 0.7 over inner (0.8 + 0.2)/2 = 0.5
+    EXPECT_NEAR(computeMacro(s.P, s.C, in).mobilisationFaceRatio, 0.7 / 0.5, 1e-12);
+    // x as well: every point has x = 5, the middle of [0, 10], so nothing changes
+    in.faceAxes = {true, false, true};
+    EXPECT_NEAR(computeMacro(s.P, s.C, in).mobilisationFaceRatio, 0.7 / 0.5, 1e-12);
+    // y: y = 0 is the middle of [-5, 5] too; moving the second contact to y = 4.6 (0.4 from the face)
+    // puts it in the face layer: (1 + 0.8 + 0.4)/3 over 0.2
+    in.faceAxes = {false, true, true};
+    s.C[1].point.y = 4.6;
+    EXPECT_NEAR(computeMacro(s.P, s.C, in).mobilisationFaceRatio, (2.2 / 3) / 0.2, 1e-12);
+    // frictionless: not defined
+    in.mu = 0;
+    EXPECT_EQ(computeMacro(s.P, s.C, in).mobilisationFaceRatio, 0.0);
+}
+
 // Many random contact directions give an isotropic fabric (F_dev -> 0 like 1/sqrt(N)); with unit
 // forces the stress is proportional to the fabric.
 TEST(MicroMacro, RandomDirectionsAreIsotropic) {

@@ -304,6 +304,10 @@ void ElementTest::writeOutputFiles() {
     }
     const Vec3 centre = 0.5 * (box().lo() + box().hi());
     in.fluctuationKineticEnergy = fluctuationKineticEnergy(particles(), rate, centre, flow) + rotational;
+    // the faces that move (any controlled axis) for the mobilisation ratio of the face layer
+    for (int a = 0; a < 3; ++a) in.faceAxes[static_cast<std::size_t>(a)] = ctrl_.axis(a).mode != AxisMode::Free;
+    in.boxLo = {box().lo().x, box().lo().y, box().lo().z};
+    in.boxHi = {box().hi().x, box().hi().y, box().hi().z};
     macro_.append(macroRow(computeMacro(particles(), contacts(), in), in));
 }
 

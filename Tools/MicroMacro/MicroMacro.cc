@@ -78,6 +78,21 @@ MacroResult computeMacro(const ParticleData& P, const std::vector<ContactRecord>
     std::vector<int> z(n, 0);
     long weak = 0, wsl = 0, wst = 0, ssl = 0, sst = 0, mobCount = 0;
     double mob = 0;
+    // face layer of the mobilisation ratio: within kFaceLayer L of a face of a face axis
+    const Eigen::Vector3d boxL = in.boxHi - in.boxLo;
+    bool anyFaceAxis = false;
+    for (int a = 0; a < 3; ++a) anyFaceAxis = anyFaceAxis || (in.faceAxes[static_cast<std::size_t>(a)] && boxL[a] > 0);
+    const auto inFaceLayer = [&](const Vec3& point) {
+        for (int a = 0; a < 3; ++a) {
+            if (!in.faceAxes[static_cast<std::size_t>(a)] || !(boxL[a] > 0)) continue;
+            double s = std::fmod(point[a] - in.boxLo[a], boxL[a]);
+            if (s < 0) s += boxL[a];
+            if (std::min(s, boxL[a] - s) < kFaceLayer * boxL[a]) return true;
+        }
+        return false;
+    };
+    double mobFace = 0, mobInner = 0;
+    long mobFaceCount = 0, mobInnerCount = 0;
     for (const auto& c : C) {
         const Eigen::Vector3d f = c.fn * ev(c.n) + ev(c.ft);
         const Eigen::Matrix3d fl = f * ev(c.branch).transpose();
@@ -105,8 +120,13 @@ MacroResult computeMacro(const ParticleData& P, const std::vector<ContactRecord>
             (c.sliding ? wsl : wst) += 1;
         }
         if (in.mu > 0 && c.fn > 0) {
-            mob += norm(c.ft) / (in.mu * c.fn);
+            const double psi = norm(c.ft) / (in.mu * c.fn);
+            mob += psi;
             ++mobCount;
+            if (anyFaceAxis) {
+                if (inFaceLayer(c.point)) mobFace += psi, ++mobFaceCount;
+                else mobInner += psi, ++mobInnerCount;
+            }
         }
     }
     r.stress = kin / V + sc / V;
@@ -158,6 +178,8 @@ MacroResult computeMacro(const ParticleData& P, const std::vector<ContactRecord>
         }
     }
     r.mobilisation = mobCount ? mob / static_cast<double>(mobCount) : 0.0;
+    if (mobFaceCount > 0 && mobInnerCount > 0 && mobInner > 0)
+        r.mobilisationFaceRatio = (mobFace / static_cast<double>(mobFaceCount)) / (mobInner / static_cast<double>(mobInnerCount));
     r.ekOverEp = in.elasticEnergy > 0 ? in.kineticEnergy / in.elasticEnergy : 0.0;
     r.ekFluctOverEp = in.elasticEnergy > 0 && in.fluctuationKineticEnergy >= 0
                           ? in.fluctuationKineticEnergy / in.elasticEnergy
@@ -215,7 +237,7 @@ const std::vector<std::string>& macroColumns() {
         addSummaryColumns(c, "fab_strong");
         addSummaryColumns(c, "fab_weak");
         for (const char* s : {"weak_fraction", "f_wsl", "f_wst", "f_ssl", "f_sst", "mobilisation", "Ek", "Ep",
-                              "Ek_fluct_over_Ep"})
+                              "Ek_fluct_over_Ep", "mobilisation_face_ratio"})
             c.push_back(s);
         return c;
     }();
@@ -239,7 +261,7 @@ std::vector<double> macroRow(const MacroResult& r, const MacroInput& in) {
     addSummaryValues(v, r.fabricStrong);
     addSummaryValues(v, r.fabricWeak);
     v.insert(v.end(), {r.weakFraction, r.wsl, r.wst, r.ssl, r.sst, r.mobilisation, in.kineticEnergy, in.elasticEnergy,
-                      r.ekFluctOverEp});
+                      r.ekFluctOverEp, r.mobilisationFaceRatio});
     return v;
 }
 

@@ -49,7 +49,16 @@ struct MacroInput {
     /// translational energy of the velocities relative to the box's affine flow plus the rotational
     /// energy (J; see fluctuationKineticEnergy); < 0: not given (Ek_fluct_over_Ep is then 0)
     double fluctuationKineticEnergy = -1;
+    /// Axes whose faces drive the deformation (moving walls, real or virtual periodic ones): the
+    /// contacts within kFaceLayer box lengths of such a face form the face layer of
+    /// MacroResult::mobilisationFaceRatio. Needs boxLo/boxHi.
+    std::array<bool, 3> faceAxes{false, false, false};
+    Eigen::Vector3d boxLo = Eigen::Vector3d::Zero(), boxHi = Eigen::Vector3d::Zero();
 };
+
+/// Width of the face layer of MacroResult::mobilisationFaceRatio, in box lengths (the thesis' check,
+/// Sec. 3.2.2; the layer Tools/Polar's --layers 5 calls its first).
+inline constexpr double kFaceLayer = 0.1;
 
 struct MacroResult {
     Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();          ///< total (symmetrised), Pa
@@ -65,6 +74,10 @@ struct MacroResult {
     double weakFraction = 0;              ///< weak contacts / all (f_n <= <f_n>)
     double wsl = 0, wst = 0, ssl = 0, sst = 0;  ///< fractions of all contacts (Sec. 3.4.4)
     double mobilisation = 0;              ///< mean |f_t| / (mu f_n) over contacts with f_n > 0
+    /// mobilisation of the loaded contacts whose contact point lies in the face layer of a face axis
+    /// (MacroInput::faceAxes) over that of the other loaded contacts: 1 within the scatter in a
+    /// homogeneous sample; 0 when not defined (no friction, no face axis, or an empty part)
+    double mobilisationFaceRatio = 0;
     double ekOverEp = 0;
     double ekFluctOverEp = 0;  ///< MacroInput::fluctuationKineticEnergy / elastic energy
 };
