@@ -72,6 +72,12 @@ TEST(Layers, MobilisationAndStressOfHandMadeContacts) {
     EXPECT_NEAR(layers[1].p, 0.2, 1e-15);
     EXPECT_NEAR(layers[1].sDev, std::sqrt(0.12) / 0.2, 1e-12);
     EXPECT_NEAR(layers[1].axialOverLateral, 4.0, 1e-12);
+    // fabric of the middle: three contacts, two along z and one along x (the unloaded one counts):
+    // F_zz = 2/3, F_xx = 1/3 -> F_zz - (F_xx + F_yy)/2 = 2/3 - 1/6 = 1/2
+    EXPECT_NEAR(layers[1].fabric[2][2], 2.0 / 3, 1e-15);
+    EXPECT_NEAR(layers[1].fabricAxialStar, 0.5, 1e-15);
+    // the faces: all three along z -> 1
+    EXPECT_NEAR(layers[0].fabricAxialStar, 1.0, 1e-15);
     // faces: the tangential forces make f (x) b asymmetric; the stress is its symmetric part:
     // xz = (1/2)(1 * 0.1)/0.5 = 0.1 from the first contact, yz = (1/2)(1 * 0.1 + 1.2 * 0.1)/0.5 = 0.22
     EXPECT_NEAR(layers[0].sigma[0][2], 0.1, 1e-15);
@@ -131,6 +137,9 @@ TEST(Layers, OffsetBoxAlongXAndTheMeanOfTheLayersIsTheWholeSample) {
     // axial (x) over lateral: layer 0 has no lateral stress -> not a number; layer 1: (-0.2/12) / (0.2/12)
     EXPECT_TRUE(std::isnan(two[0].axialOverLateral));
     EXPECT_NEAR(two[1].axialOverLateral, -1.0, 1e-12);
+    // fabric along x: layer 0 one contact along x -> 1; layer 1 one along y, one along x -> 1/2 - 1/4
+    EXPECT_NEAR(two[0].fabricAxialStar, 1.0, 1e-15);
+    EXPECT_NEAR(two[1].fabricAxialStar, 0.25, 1e-15);
     // the mean of the layers' stress is (1/V) sum f (x) b over all contacts, for any number of layers
     for (int n : {1, 3, 7}) {
         const auto layers = analyseLayers(s, 0, n, 0.5, false);
@@ -151,7 +160,8 @@ TEST(Layers, EmptyLayersAreNotNumbers) {
     for (const auto& l : layers)
         if (l.contacts == 0) {
             ++empty;
-            EXPECT_TRUE(std::isnan(l.psi) && std::isnan(l.sliding) && std::isnan(l.sDev) && std::isnan(l.axialOverLateral));
+            EXPECT_TRUE(std::isnan(l.psi) && std::isnan(l.sliding) && std::isnan(l.sDev) && std::isnan(l.axialOverLateral) &&
+                        std::isnan(l.fabricAxialStar));
         }
     EXPECT_GT(empty, 40);
 }

@@ -41,7 +41,10 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
         }
         const Vec3 f = c.force();
         for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) layer.sigma[a][b] += f[a] * c.branch[b];
+            for (int b = 0; b < 3; ++b) {
+                layer.sigma[a][b] += f[a] * c.branch[b];
+                layer.fabric[a][b] += c.normal[a] * c.normal[b];
+            }
     }
     const double layerVolume = volume / layers;
     for (std::size_t k = 0; k < out.size(); ++k) {
@@ -50,9 +53,13 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
         layer.psi = layer.loaded > 0 ? psiSum[k] / layer.loaded : nan;
         layer.sliding = layer.loaded > 0 ? static_cast<double>(slidingCount[k]) / layer.loaded : nan;
         if (layer.contacts == 0) {
-            layer.sDev = layer.axialOverLateral = nan;
+            layer.sDev = layer.axialOverLateral = layer.fabricAxialStar = nan;
             continue;
         }
+        for (auto& row : layer.fabric)
+            for (double& x : row) x /= layer.contacts;
+        const auto& F = layer.fabric;
+        layer.fabricAxialStar = F[axis][axis] - 0.5 * (F[(axis + 1) % 3][(axis + 1) % 3] + F[(axis + 2) % 3][(axis + 2) % 3]);
         auto& S = layer.sigma;
         for (int a = 0; a < 3; ++a)
             for (int b = a; b < 3; ++b) {
@@ -75,7 +82,7 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
 
 std::string layersHeader() {
     return "block,time,strain_axial,layer,d_lo,d_hi,contacts,loaded_contacts,psi,sliding_fraction,p,s_dev,axial_over_lateral,"
-           "sigma_xx,sigma_yy,sigma_zz,sigma_xy,sigma_xz,sigma_yz";
+           "sigma_xx,sigma_yy,sigma_zz,sigma_xy,sigma_xz,sigma_yz,F_axial_star";
 }
 
 std::string layersRow(int block, double time, double axialStrain, int index, const LayerStats& s) {
@@ -83,7 +90,7 @@ std::string layersRow(int block, double time, double axialStrain, int index, con
     os << block << ',' << fmt(time) << ',' << fmt(axialStrain) << ',' << index << ',' << fmt(s.lo) << ',' << fmt(s.hi) << ','
        << s.contacts << ',' << s.loaded << ',' << fmt(s.psi) << ',' << fmt(s.sliding) << ',' << fmt(s.p) << ',' << fmt(s.sDev) << ',' << fmt(s.axialOverLateral) << ','
        << fmt(s.sigma[0][0]) << ',' << fmt(s.sigma[1][1]) << ',' << fmt(s.sigma[2][2]) << ',' << fmt(s.sigma[0][1]) << ','
-       << fmt(s.sigma[0][2]) << ',' << fmt(s.sigma[1][2]);
+       << fmt(s.sigma[0][2]) << ',' << fmt(s.sigma[1][2]) << ',' << fmt(s.fabricAxialStar);
     return os.str();
 }
 

@@ -27,6 +27,11 @@ struct LayerStats {
     double p = 0;                  ///< tr(sigma)/3 (Pa)
     double sDev = 0;               ///< sqrt(3 J2)/p (Eq. 3.14 over p, signed p as in Tools/MicroMacro; NaN without contacts)
     double axialOverLateral = 0;   ///< sigma_aa / mean of the other two normal stresses (NaN without contacts)
+    /// Normalised fabric of the layer's contacts, F = (1/C) sum n (x) n (Eq. 3.16, trace 1), and its
+    /// axial minus mean lateral diagonal component, F_aa - (F_bb + F_cc)/2 (Eq. 3.19 with the box axes
+    /// as eigen-directions; positive when contacts favour the axis). NaN without contacts.
+    std::array<std::array<double, 3>, 3> fabric{};
+    double fabricAxialStar = 0;
 };
 
 /// Layer statistics of one contact snapshot: `axis` 0, 1 or 2, `layers` >= 1 bins of equal width on
