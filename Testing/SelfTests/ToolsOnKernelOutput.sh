@@ -17,7 +17,8 @@ cd "$work"
 blocks=$(($(wc -l < polar/polar_series.csv) - 1))
 rows=$(($(wc -l < polar/polar_layers.csv) - 1))
 [[ $rows -eq $((4 * blocks)) ]] || { echo "FAIL: $rows layer rows for $blocks blocks (expected 4 each)"; exit 1; }
-awk -F, 'NR > 1 { n += $6 } END { exit (n > 0 ? 0 : 1) }' polar/polar_layers.csv || { echo "FAIL: no contacts in the layers"; exit 1; }
+awk -F, 'NR == 1 { for (k = 1; k <= NF; ++k) if ($k == "contacts") c = k; next } { n += $c }
+         END { exit (c > 0 && n > 0 ? 0 : 1) }' polar/polar_layers.csv || { echo "FAIL: no contacts in the layers"; exit 1; }
 # material in the profile: the largest coarse-grained density is that of a packed bed
 awk -F, '!/^#/ && NR > 2 { if ($2 > m) m = $2 } END { printf "max rho %.1f kg/m3\n", m; exit (m > 100 ? 0 : 1) }' cg/cg.csv \
   || { echo "FAIL: no material in the coarse-grained profile"; exit 1; }

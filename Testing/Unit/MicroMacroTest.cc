@@ -193,11 +193,12 @@ TEST(MicroMacro, MobilisationFaceRatio) {
     s.C[2].ft = {0.2, 0, 0};  // psi 0.4
     s.C[3].ft = {0, 0.2, 0};  // psi 0.2
     // box [0, 10] x [-5, 5] x [2, 6]; contact points: z = 2.3 (d = 0.3 of 4: 0.075 L, face layer),
-    // z = 7.9 (wraps to 3.9, d = 1.9: inner), z = -1.8 (wraps to 2.2, d = 0.2: face layer), z = 4 (inner)
+    // z = 7.9 (wraps to 3.9, d = 1.9: inner), z = -1.8 (wraps to 2.2, d = 0.2: face layer), z = -0.5
+    // (below lo: wraps to 3.5, d = 1.5: inner)
     s.C[0].point = {5, 0, 2.3};
     s.C[1].point = {5, 0, 7.9};
     s.C[2].point = {5, 0, -1.8};
-    s.C[3].point = {5, 0, 4};
+    s.C[3].point = {5, 0, -0.5};
     MacroInput in;
     in.volume = 400;
     in.mu = 0.5;
@@ -219,6 +220,38 @@ TEST(MicroMacro, MobilisationFaceRatio) {
     // frictionless: not defined
     in.mu = 0;
     EXPECT_EQ(computeMacro(s.P, s.C, in).mobilisationFaceRatio, 0.0);
+}
+
+// A macro file of an earlier version (a subset of today's columns) keeps its rows on reload, the new
+// columns NaN; a file with other columns is moved aside to PATH.old.
+TEST(MicroMacro, ReloadKeepsAnEarlierVersionsRowsAndMovesAForeignFileAside) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / "pdpm_macro_reload";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::vector<std::string>& cols = macroColumns();
+    std::vector<std::string> older(cols.begin(), cols.end() - 1);  // without the last column
+    std::vector<std::vector<double>> rows = {std::vector<double>(older.size(), 1.5), std::vector<double>(older.size(), 2.5)};
+    const std::string path = (dir / "run.macro.csv").string();
+    writeCsv(path, older, rows);
+    MacroCsv m(path);
+    m.reload();
+    ASSERT_EQ(m.rows(), 2u);
+    EXPECT_EQ(m.data()[1].size(), cols.size());
+    EXPECT_EQ(m.data()[1][0], 2.5);
+    EXPECT_EQ(m.data()[1][cols.size() - 2], 2.5);
+    EXPECT_TRUE(std::isnan(m.data()[1].back()));
+    EXPECT_FALSE(fs::exists(path + ".old"));
+    // foreign: a column this version does not know
+    std::vector<std::string> foreign = older;
+    foreign[3] = "something_else";
+    writeCsv(path, foreign, rows);
+    MacroCsv f(path);
+    f.reload();
+    EXPECT_EQ(f.rows(), 0u);
+    EXPECT_TRUE(fs::exists(path + ".old"));
+    EXPECT_FALSE(fs::exists(path));
+    fs::remove_all(dir);
 }
 
 // Many random contact directions give an isotropic fabric (F_dev -> 0 like 1/sqrt(N)); with unit

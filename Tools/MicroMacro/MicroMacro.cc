@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
+#include <limits>
 #include <numbers>
 
 #include "Core/Error.h"
@@ -278,8 +280,33 @@ void MacroCsv::reload() {
     rows_.clear();
     if (path_.empty() || !std::filesystem::exists(path_)) return;
     const CsvTable t = readCsv(path_);
-    if (t.columns != macroColumns()) return;  // foreign file: start afresh
-    rows_ = t.rows;
+    const std::vector<std::string>& cols = macroColumns();
+    if (t.columns == cols) {
+        rows_ = t.rows;
+        return;
+    }
+    // written by an earlier version (a subset of today's columns): keep its rows, columns matched by
+    // name, the new ones not a number
+    std::vector<int> from(cols.size(), -1);
+    std::size_t found = 0;
+    for (std::size_t c = 0; c < cols.size(); ++c)
+        for (std::size_t k = 0; k < t.columns.size(); ++k)
+            if (t.columns[k] == cols[c]) from[c] = static_cast<int>(k), ++found;
+    if (found == t.columns.size() && from[0] == 0) {
+        for (const auto& r : t.rows) {
+            std::vector<double> row(cols.size(), std::numeric_limits<double>::quiet_NaN());
+            for (std::size_t c = 0; c < cols.size(); ++c)
+                if (from[c] >= 0) row[c] = r[static_cast<std::size_t>(from[c])];
+            rows_.push_back(std::move(row));
+        }
+        std::cerr << "note: " << path_ << " has " << t.columns.size() << " of today's " << cols.size()
+                  << " columns (an earlier version); its rows are kept, the new columns are nan until the restart\n";
+        return;
+    }
+    // a foreign file: moved aside, not overwritten
+    const std::string aside = path_ + ".old";
+    std::filesystem::rename(path_, aside);
+    std::cerr << "note: " << path_ << " is not a macro file of this version (other columns); moved to " << aside << "\n";
 }
 
 void MacroCsv::flush() const {

@@ -49,15 +49,15 @@ struct MacroInput {
     /// translational energy of the velocities relative to the box's affine flow plus the rotational
     /// energy (J; see fluctuationKineticEnergy); < 0: not given (Ek_fluct_over_Ep is then 0)
     double fluctuationKineticEnergy = -1;
-    /// Axes whose faces drive the deformation (moving walls, real or virtual periodic ones): the
-    /// contacts within kFaceLayer box lengths of such a face form the face layer of
-    /// MacroResult::mobilisationFaceRatio. Needs boxLo/boxHi.
+    /// Axes whose faces move (wall-driven, or remapped: then the ratio is a null check of the contacts
+    /// across the boundary): the contacts within kFaceLayer box lengths of a face of any of them (the
+    /// union of the slabs) form the face layer of MacroResult::mobilisationFaceRatio. Needs boxLo/boxHi.
     std::array<bool, 3> faceAxes{false, false, false};
     Eigen::Vector3d boxLo = Eigen::Vector3d::Zero(), boxHi = Eigen::Vector3d::Zero();
 };
 
 /// Width of the face layer of MacroResult::mobilisationFaceRatio, in box lengths (the thesis' check,
-/// Sec. 3.2.2; the layer Tools/Polar's --layers 5 calls its first).
+/// Sec. 3.2.2; for one face axis the first layer of Tools/Polar's --layers 5).
 inline constexpr double kFaceLayer = 0.1;
 
 struct MacroResult {
@@ -110,7 +110,9 @@ public:
     void append(const std::vector<double>& row);
     /// Keep only rows with time <= t (after a restart).
     void truncateAfter(double t);
-    /// Re-read rows of an existing file (restart); silently does nothing if it does not exist.
+    /// Re-read rows of an existing file (restart); does nothing if it does not exist. A file of an
+    /// earlier version (a subset of today's columns) keeps its rows, the new columns NaN; a file with
+    /// other columns is renamed to PATH.old (a note on stderr in both cases).
     void reload();
     std::size_t rows() const { return rows_.size(); }
     const std::vector<std::vector<double>>& data() const { return rows_; }
