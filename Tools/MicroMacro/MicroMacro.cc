@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 
+#include "Boundaries/FaceDistance.h"
 #include "Core/Error.h"
 #include "IO/Csv.h"
 
@@ -87,9 +88,7 @@ MacroResult computeMacro(const ParticleData& P, const std::vector<ContactRecord>
     const auto inFaceLayer = [&](const Vec3& point) {
         for (int a = 0; a < 3; ++a) {
             if (!in.faceAxes[static_cast<std::size_t>(a)] || !(boxL[a] > 0)) continue;
-            double s = std::fmod(point[a] - in.boxLo[a], boxL[a]);
-            if (s < 0) s += boxL[a];
-            if (std::min(s, boxL[a] - s) < kFaceLayer * boxL[a]) return true;
+            if (faceDistanceFraction(point[a], in.boxLo[a], boxL[a]) < kFaceLayer) return true;
         }
         return false;
     };

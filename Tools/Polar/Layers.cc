@@ -1,5 +1,6 @@
 #include "Layers.h"
 
+#include "Boundaries/FaceDistance.h"
 #include "Core/Error.h"
 #include "OutputFiles.h"
 
@@ -28,9 +29,7 @@ std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis,
     }
     for (const ContactRecord& c : snapshot.contacts) {
         if (c.isWallContact() && !includeWalls) continue;
-        double s = std::fmod(c.contactPoint[axis] - snapshot.boxLo[axis], L[axis]);
-        if (s < 0) s += L[axis];
-        const double d = std::min(s, L[axis] - s) / L[axis];
+        const double d = faceDistanceFraction(c.contactPoint[axis], snapshot.boxLo[axis], L[axis]);
         const std::size_t k = std::min(out.size() - 1, static_cast<std::size_t>(d * 2 * layers));
         LayerStats& layer = out[k];
         ++layer.contacts;
