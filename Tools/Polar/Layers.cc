@@ -11,14 +11,19 @@
 
 namespace pdpm::tools {
 
+void checkLayerBox(const ContactSnapshot& snapshot) {
+    const Vec3 L = snapshot.boxHi - snapshot.boxLo;
+    if (!(L.x > 0) || !(L.y > 0) || !(L.z > 0) || !std::isfinite(L.x * L.y * L.z))
+        inputError("layers: the box of the block at t = " + fmt(snapshot.time) + " s has no volume");
+}
+
 std::vector<LayerStats> analyseLayers(const ContactSnapshot& snapshot, int axis, int layers, double mu, bool includeWalls) {
     if (axis < 0 || axis > 2) inputError("layers: the axis must be x, y or z");
     if (layers < 1) inputError("layers: at least one layer is needed");
     if (!(mu > 0) || !std::isfinite(mu)) inputError("layers: mu must be positive for the mobilisation |f_t|/(mu f_n)");
+    checkLayerBox(snapshot);
     const Vec3 L = snapshot.boxHi - snapshot.boxLo;
     const double volume = L.x * L.y * L.z;
-    if (!(L.x > 0) || !(L.y > 0) || !(L.z > 0) || !std::isfinite(volume))
-        inputError("layers: the snapshot's box (t = " + fmt(snapshot.time) + " s) has no volume");
 
     std::vector<LayerStats> out(static_cast<std::size_t>(layers));
     std::vector<double> psiSum(out.size(), 0.0);

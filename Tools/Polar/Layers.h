@@ -34,6 +34,9 @@ struct LayerStats {
     double fabricAxialStar = 0;
 };
 
+/// Throws InputError unless the snapshot's box has a positive, finite extent along every axis.
+void checkLayerBox(const ContactSnapshot& snapshot);
+
 /// Layer statistics of one contact snapshot: `axis` 0, 1 or 2, `layers` >= 1 bins of equal width on
 /// d/L in [0, 1/2], mu > 0 for psi; contact points outside the box (image contacts) are wrapped back.
 /// Throws InputError for a bad axis, layer count, mu, or a box without volume (every extent must be positive).

@@ -127,11 +127,7 @@ int run(int argc, char** argv) {
         for (auto& b : readFstat(p)) blocks.push_back(std::move(b));
     }
     if (layerAxis >= 0)  // refused before anything is written
-        for (const auto& b : blocks) {
-            const Vec3 L = b.boxHi - b.boxLo;
-            if (!(L.x > 0) || !(L.y > 0) || !(L.z > 0))
-                inputError("--layers: the box of the block at t = " + fmt(b.time) + " s has no volume");
-        }
+        for (const auto& b : blocks) checkLayerBox(b);
     ensureDirectory(output);
     const Vec3 L0 = blocks[0].boxHi - blocks[0].boxLo;
     const Vec3 e = cfg.axis / norm(cfg.axis);
