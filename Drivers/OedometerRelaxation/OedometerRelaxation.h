@@ -40,6 +40,7 @@ public:
         p.add("material", &material_, "cocoa", "material preset", {"cocoa", "frictional"});
         p.add("k_over_k1", &kOverK1_, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
         p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
+        p.add("hertz_modulus", &hertzModulus_, 0, "Pa", "Hertz contacts: effective Young's modulus E* of a Hertzian normal force in place of Luding's (0: Luding; needs --k_over_k1 1 --kc_over_k 0; the other parts of the law stay)", Range::nonNegative());
         p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());
         p.add("pour_drag_time", &pourDragTime_, 0.1, "s", "drag time of the particles falling while filling (mass-proportional drag; terminal speed g x this)", Range::positive());
         p.add("dt_fraction", &dtFraction_, 25, "-", "time step = t_c / dt_fraction", Range::atLeast(10));
@@ -149,6 +150,7 @@ protected:
     void actionsOnRestart() override {
         ConfinedCompression::actionsOnRestart();
         loadMaterial();
+        checkHertzLaw(*this);
     }
 
     void actionsBeforeTimeLoop() override {
@@ -189,7 +191,8 @@ protected:
                                    {"density_kg_m3", mat_.density},
                                    {"d_mean_m", dMean_},
                                    {"r_max_over_r_min", mat_.sizeRatio},
-                                   {"contact_law", parameters().get("contact_law")},
+                                   {"contact_law", contactLaw().name()},
+                                   {"E_star_Pa", hertzModulus_},
                                    {"k_N_m", mat_.pp.k},
                                    {"k1_N_m", mat_.pp.k1},
                                    {"kc_N_m", mat_.pp.kc},
@@ -207,6 +210,14 @@ protected:
 
 private:
     bool cylinder() const { return geometry_ == "cylinder"; }
+    /// --contact_law, or with --hertz_modulus the same law parts around a Hertzian normal force.
+    std::string lawName() const { return hertzModulus_ > 0 ? "hertz-rolling-relax" : parameters().get("contact_law"); }
+    /// --hertz_modulus needs the Hertz law in use (not one given by --contact_law or a restart file).
+    void checkHertzLaw(const DPMBase& d) const {
+        if (hertzModulus_ > 0 && d.contactLaw().name() != "hertz-rolling-relax")
+            inputError("--hertz_modulus: the contact law in use is '" + d.contactLaw().name() +
+                       "' (from --contact_law or the restart file); Hertz contacts need hertz-rolling-relax");
+    }
     /// Material preset from the parameters (also after a restart).
     void loadMaterial() {
         mat_ = oedometerMaterial(material_, muWall_);
@@ -218,6 +229,23 @@ private:
         else if (kcOverK_ != -1) inputError("--kc_over_k: expected -1 (the material's value) or a value >= 0, got " + fmt(kcOverK_));
         if (fillMuWall_ < 0 && fillMuWall_ != -1)
             inputError("--fill_wall_friction: expected -1 (the same as --wall_friction) or a value >= 0, got " + fmt(fillMuWall_));
+        if (hertzModulus_ > 0) {
+            // Hertzian normal force: elastic and non-adhesive, so the material (or the plasticity and
+            // adhesion knobs) must be; the dashpot becomes the restitution of the linear law for two
+            // mean particles
+            if (parameters().wasSetOnCommandLine("contact_law") && parameters().get("contact_law") != "hertz-rolling-relax")
+                inputError("--hertz_modulus: it sets the contact law hertz-rolling-relax; leave out --contact_law " +
+                           parameters().get("contact_law"));
+            if (mat_.pp.k1 != mat_.pp.k || mat_.pp.kc != 0)
+                inputError("--hertz_modulus: Hertz contacts are elastic and non-adhesive, the " + material_ +
+                           " material is not: give --k_over_k1 1 --kc_over_k 0 with it");
+            const double m = mat_.density * std::numbers::pi * dMean_ * dMean_ * dMean_ / 6;
+            const double e = restitutionCoefficient(mat_.pp.k, mat_.pp.gamma, 0.5 * m);
+            for (ContactParameters* c : {&mat_.pp, &mat_.pw}) {
+                c->youngEff = hertzModulus_;
+                c->restitution = e;
+            }
+        }
         mat_.dMean = dMean_;
         grainDensity_ = mat_.density;
         grainSize_ = dMean_;
@@ -229,7 +257,8 @@ private:
             pp.kc = 0;
             if (fillMuWall_ >= 0) pw.muS = pw.muD = fillMuWall_;
         }
-        d.setContactLaw(parameters().get("contact_law"));
+        d.setContactLaw(lawName());
+        checkHertzLaw(d);
         const int a = d.addSpecies(mat_.name, mat_.density, pp);
         const int w = d.addSpecies("wall", mat_.density, pp);
         d.setPairParameters(a, w, pw);
@@ -241,7 +270,7 @@ private:
 
     std::string geometry_, device_, material_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0;
-    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, fillMuWall_ = -1;
+    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, fillMuWall_ = -1, hertzModulus_ = 0;
     bool gravityOn_ = true;
     OedometerMaterial mat_;
     long mouldWall_ = -1;

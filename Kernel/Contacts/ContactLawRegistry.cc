@@ -30,6 +30,7 @@ const std::map<std::string, Entry>& registry() {
         {"luding", law<NormalLuding, TangentialCoulomb, RollingResistance, TorsionResistance>("Luding's hysteretic plastic-adhesive normal force (Eqs. 5.5-5.7) + sliding, rolling, torsion friction")},
         {"linear-relax", law<Relaxing<NormalLinear>, TangentialCoulomb, NoPart, NoPart>("linear + sliding friction, with the time-dependent relaxation of Eq. 4.1 (relaxC, relaxT0, relaxTimeScale, relaxMemory)")},
         {"hertz-mindlin-relax", law<Relaxing<NormalHertz>, TangentialMindlin, NoPart, NoPart>("Hertz-Mindlin with the time-dependent relaxation of Eq. 4.1")},
+        {"hertz-rolling-relax", law<Relaxing<NormalHertz>, TangentialCoulomb, RollingResistance, TorsionResistance>("Hertz normal force + linear sliding, rolling and torsion friction (the parts of luding-relax around a Hertz normal force), with the time-dependent relaxation of Eq. 4.1")},
         {"luding-relax", law<Relaxing<NormalLuding>, TangentialCoulomb, RollingResistance, TorsionResistance>("Luding + sliding, rolling, torsion friction, with the time-dependent relaxation of Eq. 4.1")},
     };
     return r;

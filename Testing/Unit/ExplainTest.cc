@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
@@ -943,6 +944,144 @@ TEST(ExplainCommand, DemConfirmationWallFrictionCalibratesMuWOnTheBottomSensor) 
 // stress on first loading is Janssen's transmission exp(-4 mu_w K H/D); the intercept (the bed's
 // weight) does not enter it. Lost share above 3 standard errors and kMinWallLoss: wall friction
 // present; below kMinWallLoss even with 3 se: no loss; otherwise inconclusive.
+namespace {
+/// Load to strain em at stiffness E, unload along s = E em (1 - (em - e)/(em/3))^m to yEnd of the top,
+/// reload along the same curve and load on to 1.25 em: an elastic record whose unloading curvature
+/// grows with m (m = 1: straight), n samples per branch, time = sample index.
+Recording curvedCycle(double E, double em, double m, int n, double yEnd = 0.05) {
+    Recording rec;
+    const double xh = em / 3, eLow = em - xh * (1 - std::pow(yEnd, 1 / m));
+    const auto unloadStress = [&](double e) { return E * em * std::pow(1 - (em - e) / xh, m); };
+    for (int i = 0; i <= n; ++i) rec.strain.push_back(em * i / n), rec.stress.push_back(E * rec.strain.back());
+    for (int i = 1; i <= n; ++i) rec.strain.push_back(em - (em - eLow) * i / n), rec.stress.push_back(unloadStress(rec.strain.back()));
+    for (int i = 1; i <= n; ++i) rec.strain.push_back(eLow + (em - eLow) * i / n), rec.stress.push_back(unloadStress(rec.strain.back()));
+    for (int i = 1; i <= n / 2; ++i) rec.strain.push_back(em * (1 + 0.5 * i / n)), rec.stress.push_back(E * rec.strain.back());
+    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
+    return rec;
+}
+} // namespace
+
+// The stiffness_nonlinearity DEM confirmation against a stand-in driver whose record is curvedCycle
+// with m = 1 for linear contacts and m = 1 + 0.4 log10(E_match / E*) for --hertz_modulus E* (softer
+// contacts, more curved unloading), at another stiffness and stress scale than the lab's (m = 1.6):
+// the unloads calibrate E* (secant on the curvature against ln E*), the reload is held out. A lab
+// record that unloads straight contradicts Hertzian contacts.
+TEST(ExplainCommand, DemConfirmationNonlinearityCalibratesTheUnloadCurvature) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
+ "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 20000},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 500000}]})");
+    const double eMatch = hertzModulusMatching(kDemContactStiffness, kDemMeanDiameter, 20e3);
+    // E* of the first Hertzian run: its force equals the linear one at the overlap of the mean contact force
+    const double delta = std::numbers::pi * kDemMeanDiameter * kDemMeanDiameter * 20e3 / (3 * kDemPackingPhiZ) / kDemContactStiffness;
+    EXPECT_NEAR(4.0 / 3.0 * eMatch * std::sqrt(kDemMeanDiameter / 4 * delta) * delta, kDemContactStiffness * delta, 1e-9 * delta);
+    writeWholeFile(dir + "/driver.sh", R"(#!/bin/sh
+v_hertz_modulus=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --*) key=$(printf %s "${1#--}" | tr -c 'a-zA-Z0-9_\n' _)
+         case "$2" in --*|'') eval "v_$key=1";; *) eval "v_$key=\$2"; shift;; esac;;
+  esac; shift
+done
+echo "$v_hertz_modulus $v_stress_scale $v_material $v_k_over_k1 $v_kc_over_k $v_relax_C" >> "$v_output/calls.txt"
+awk -v h="$v_hertz_modulus" -v sc="$v_stress_scale" -v em0=")" + fmt(eMatch) + R"(" 'BEGIN {
+  m = h > 0 ? 1 + 0.4 * log(em0 / h) / log(10) : 1; E = 1e6 * sc; em = 0.02; n = 200
+  xh = em / 3; el = em - xh * (1 - 0.05 ^ (1 / m)); t = 0
+  print "time_s,axial_strain,axial_stress_Pa"
+  for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
+  for (i = 1; i <= n; i++) { e = em - (em - el) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em * (1 - (em - e) / xh) ^ m }
+  for (i = 1; i <= n; i++) { e = el + (em - el) * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * em * (1 - (em - e) / xh) ^ m }
+  for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
+}' > "$v_output/$v_name.recording.csv"
+)");
+    std::filesystem::permissions(dir + "/driver.sh", std::filesystem::perms::owner_all);
+    const Recording rec = curvedCycle(5e7, 0.008, 1.6, 40);
+    const ExplainResult r = accepted(kNonlinearity, pExpN, 1.45);
+    DemOptions opt;
+    opt.driver = dir + "/driver.sh";
+    std::filesystem::create_directories(dir + "/dem");
+    const DemResult d = confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+    ASSERT_EQ(d.status, "done") << d.reason;
+    EXPECT_EQ(d.mechanism, "stiffness_nonlinearity");
+    EXPECT_EQ(d.calibration, "unload_curvature_secant");
+    EXPECT_EQ(d.calibrationHolds, 1);
+    EXPECT_EQ(d.heldoutHolds, 1);
+    EXPECT_NEAR(d.stressScale, 20e3 / 500e3, 1e-12);
+    EXPECT_NEAR(d.surrogateValue, 1.45, 1e-12);
+    ASSERT_GE(d.runs.size(), 3u);
+    EXPECT_EQ(d.runs[0].hertzModulus, 0.0);
+    EXPECT_NEAR(d.runs[1].hertzModulus, eMatch / 10, 1e-6 * eMatch);
+    EXPECT_NEAR(d.runs[0].macro, 1.0, 0.01) << "a straight unloading";
+    EXPECT_GT(d.labMacro, 1.15);
+    EXPECT_GT(d.runs[1].macro, d.runs[0].macro);
+    const DemRun& c = d.runs[static_cast<std::size_t>(d.chosen)];
+    EXPECT_NEAR(c.macro, d.labMacro, 0.1 * (d.labMacro - 1)) << "the chosen run unloads as curved as the recording";
+    EXPECT_NEAR(std::log10(eMatch / c.hertzModulus), 1.5, 0.15) << "m = 1.6 at E_match / 10^1.5";
+    EXPECT_GT(d.heldoutBaseline, 0.0);
+    EXPECT_LT(d.heldoutAugmented, 0.1 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
+    const std::string calls = readWholeFile(dir + "/dem/calls.txt");
+    EXPECT_EQ(calls.substr(0, calls.find('\n')), "0 0.04 frictional 1 0 0") << "linear, frictional material, elastic, no adhesion, no relaxation";
+    const Json j = demJson(d);
+    EXPECT_EQ(j.at("calibration").asString(), "unload_curvature_secant");
+    EXPECT_TRUE(j.has("heldout_branches"));
+    EXPECT_NEAR(j.at("recording_unload_curvature_calibration_branches").asNumber(), d.labMacro, 1e-12);
+    EXPECT_NEAR(j.at("runs").asArray("runs")[1].at("hertz_modulus_Pa").asNumber(), eMatch / 10, 1e-6 * eMatch);
+    const std::string md = demMarkdown(d);
+    EXPECT_NE(md.find("Hertzian"), std::string::npos) << md;
+    const std::string cmp = readWholeFile(dir + "/dem/comparison.csv");
+    EXPECT_EQ(cmp.substr(0, cmp.find(',', cmp.find("lab_stress_Pa"))), "item,role,axial_strain,lab_stress_Pa");
+
+    // a recording that unloads straight: no curvature beyond the linear bed's, contradicted after the baseline run
+    const DemResult straight = confirmWithDem(r, curvedCycle(5e7, 0.008, 1.0, 40), dir + "/p.json", opt, dir + "/dem2");
+    EXPECT_EQ(straight.status, "contradicted") << straight.reason;
+    EXPECT_EQ(straight.runs.size(), 1u);
+    // an unload that stops at 40 % of its start stress: the secant ends just above its lowest sample
+    // (42 %; the phase detector gives the turning sample or two to the reload: up to 0.41 + 0.02)
+    const DemResult shallow = confirmWithDem(r, curvedCycle(5e7, 0.008, 1.6, 40, 0.4), dir + "/p.json", opt, dir + "/dem4");
+    EXPECT_EQ(shallow.status, "done") << shallow.reason;
+    EXPECT_GE(shallow.ratioYMin, 0.42 - 1e-9);
+    EXPECT_LE(shallow.ratioYMin, 0.43);
+    EXPECT_GT(shallow.labMacro, 1.1);
+    // one that stops at 70 %: too shallow for a curvature
+    const DemResult tooShallow = confirmWithDem(r, curvedCycle(5e7, 0.008, 1.6, 40, 0.7), dir + "/p.json", opt, dir + "/dem5");
+    EXPECT_EQ(tooShallow.status, "not_run");
+    EXPECT_TRUE(tooShallow.runs.empty());
+
+    // another accepted mechanism with a DEM counterpart goes first (here plasticity) unless named
+    ExplainResult both = r;
+    both.mechanisms.push_back(accepted(kPlasticity, pLambda, 3.0).mechanisms.front());
+    opt.driver = "/nonexistent/driver";  // not_run: only the choice of the mechanism is looked at
+    EXPECT_EQ(confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem3").mechanism, "plasticity");
+    opt.mechanism = "stiffness_nonlinearity";
+    EXPECT_EQ(confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem3").mechanism, "stiffness_nonlinearity");
+    opt.mechanism = "wall_friction";
+    const DemResult notAccepted = confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem3");
+    EXPECT_EQ(notAccepted.status, "not_run");
+    EXPECT_NE(notAccepted.reason.find("was not accepted"), std::string::npos);
+    // a rate_dependence that was accepted but has no DEM counterpart: not_supported, under its own name
+    ExplainResult rate = r;
+    rate.mechanisms.push_back(accepted(kRate, pTauV, 1.0).mechanisms.front());
+    opt.mechanism = "rate_dependence";
+    const DemResult rateOnly = confirmWithDem(rate, rec, dir + "/p.json", opt, dir + "/dem3");
+    EXPECT_EQ(rateOnly.status, "not_supported");
+    EXPECT_EQ(rateOnly.mechanism, "rate_dependence");
+    // the command refuses a name that is not a mechanism (a nuisance, an unknown word) and takes a mechanism
+    std::ostringstream csv;
+    csv << std::setprecision(17) << "time_s,axial_strain,axial_stress_Pa\n";
+    for (std::size_t i = 0; i < rec.t.size(); ++i) csv << rec.t[i] << ',' << rec.strain[i] << ',' << rec.stress[i] << '\n';
+    writeWholeFile(dir + "/r.csv", csv.str());
+    const auto command = [&](const std::string& name) {
+        return runExplainCommand({"--recording", dir + "/r.csv", "--protocol", dir + "/p.json", "--output", dir + "/o", "--dem", "off",
+                                  "--no_figures", "--dem_mechanism", name});
+    };
+    EXPECT_EQ(command("instrument_compliance"), 2);
+    EXPECT_EQ(command("bogus"), 2);
+    EXPECT_EQ(command("stiffness_nonlinearity"), 0);
+}
+
 TEST(ExplainBottomSensor, ReadsTheLoadingTransmission) {
     const Recording base = labCycle(8e6, 0.004, 1.75);
     Protocol proto;

@@ -158,6 +158,17 @@ TEST(Relaxation, OffMeansBaseLaw) {
             EXPECT_EQ(ca.step(d, 1e-5, 1e-3).fn, cb.step(d, 1e-5, 1e-3).fn) << relaxName << " step " << k;
         }
     }
+    // hertz-rolling-relax (the driver's --hertz_modulus) has Hertz's normal force: the same as
+    // hertz-mindlin's for a purely normal motion when C = 0
+    {
+        const auto a = makeContactLaw("hertz-rolling-relax"), b = makeContactLaw("hertz-mindlin");
+        const ContactParameters p = hertzParams(0, 0.3, 1e4);
+        Contact ca(*a, p), cb(*b, p);
+        for (int k = 0; k < 200; ++k) {
+            const double d = 1e-5 * (1 + std::sin(0.05 * k));
+            EXPECT_EQ(ca.step(d, 1e-5, 1e-3).fn, cb.step(d, 1e-5, 1e-3).fn) << "hertz-rolling-relax step " << k;
+        }
+    }
     // Time scale 0: clock frozen, no decay even with C > 0.
     double ratio = 0;
     holdDeviation("linear-relax", linearParams(0.08, 0.3, 0), 1e-5, 1e-5, 100, &ratio);

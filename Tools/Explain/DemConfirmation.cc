@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "Core/Error.h"
@@ -475,7 +476,11 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
     double maxTarget = 0;
     for (const recording::Step& st : ctx.protocol->steps) maxTarget = std::max(maxTarget, st.targetStress);
-    if (!(maxTarget > 0)) return ctx.fail("the protocol has no target stress");
+    if (!(maxTarget > 0)) {  // a protocol without stress targets (the import knew only the strain path)
+        d.status = "not_run";
+        d.reason = "the protocol's steps have no target stress, and the DEM driver replays a protocol by its stress targets";
+        return ctx.finish();
+    }
     d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
 
     auto runDem = [&](const std::string& name, double value) -> DemRecord {
@@ -662,7 +667,165 @@ DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, cons
     return confirmBranches(ctx, knob, rec, protocolPath);
 }
 
+// ---- stiffness_nonlinearity: the curvature of the unloading ---------------------------------------
+
+/// Curvature of the unload branches in `which`: the unloading tangent at the top (least-squares slope
+/// of y on u over the samples with y >= 0.8) over the secant from the top to where y first reaches
+/// yLow, averaged over the branches. A straight unloading gives 1; Hertzian contacts, whose stiffness
+/// falls with the force, a larger value (the same estimator on the lab and on the DEM record).
+double unloadCurvature(const std::vector<Branch>& b, const std::vector<std::size_t>& which, double yLow) {
+    double sum = 0;
+    int n = 0;
+    for (std::size_t k : which) {
+        if (k >= b.size() || b[k].phase != Phase::Unload) continue;
+        const Branch& br = b[k];
+        std::size_t top = 0;
+        while (top < br.y.size() && br.y[top] >= 0.8) ++top;
+        std::size_t low = top;
+        while (low < br.y.size() && br.y[low] > yLow) ++low;
+        if (top < 3 || low >= br.y.size() || !(br.u[low] > 0)) continue;
+        const double tangent = -slope(br.u, br.y, 0, top);
+        const double secant = (1 - br.y[low]) / br.u[low];
+        if (tangent > 0 && secant > 0) sum += tangent / secant, ++n;
+    }
+    return n > 0 ? sum / n : -1;
+}
+
+/// stiffness_nonlinearity: linear against Hertzian contacts, E* calibrated on the unloading's
+/// curvature, scored on the reloads (DemConfirmation.h).
+DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, const Recording& rec, const std::string& protocolPath) {
+    DemResult& d = ctx.d;
+    d.mechanism = "stiffness_nonlinearity";
+    d.calibration = "unload_curvature_secant";
+    for (std::size_t q = 0; q < nonlin.params.size(); ++q)
+        if (nonlin.params[q] == pExpN) d.surrogateValue = nonlin.value[q];
+    const std::vector<Branch> lab = cycleBranches(rec.t, rec.strain, rec.stress);
+    std::vector<std::size_t> cal, held;
+    for (std::size_t k = 0; k < lab.size(); ++k) (lab[k].phase == Phase::Unload ? cal : held).push_back(k);
+    if (cal.empty() || held.empty()) {
+        d.status = "not_run";
+        d.reason = "the recording needs an unload (calibration) and a reload after it (held out) with a loading before them; it has " +
+                   std::to_string(cal.size()) + " usable unload and " + std::to_string(held.size()) + " reload branch(es)";
+        return ctx.finish();
+    }
+    d.calibrationHolds = static_cast<int>(cal.size());
+    d.heldoutHolds = static_cast<int>(held.size());
+    // the secant ends at 20 % of the start stress, or just above the lowest stress the recording's
+    // unloads reach (the DEM runs follow the same protocol, so they reach it too)
+    double yMinLab = 1;
+    for (std::size_t k : cal)
+        for (double y : lab[k].y) yMinLab = std::min(yMinLab, y);
+    d.ratioYMin = std::max(kCurvatureLowY, yMinLab + 0.02);
+    d.labMacro = d.ratioYMin <= kCurvatureMaxLowY ? unloadCurvature(lab, cal, d.ratioYMin) : -1;
+    if (!(d.labMacro > 0)) {
+        d.status = "not_run";
+        d.reason = "the recording's unloads go down to " + fmt(100 * yMinLab) + " % of their start stress; the unloading curvature needs " +
+                   "an unload to at most " + fmt(100 * (kCurvatureMaxLowY - 0.02)) + " % with at least 3 samples above 80 %";
+        return ctx.finish();
+    }
+    if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
+    double maxTarget = 0;
+    for (const recording::Step& st : ctx.protocol->steps) maxTarget = std::max(maxTarget, st.targetStress);
+    if (!(maxTarget > 0)) {  // a protocol without stress targets (the import knew only the strain path)
+        d.status = "not_run";
+        d.reason = "the protocol's steps have no target stress, and the DEM driver replays a protocol by its stress targets";
+        return ctx.finish();
+    }
+    d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
+    const double eMatch = hertzModulusMatching(kDemContactStiffness, kDemMeanDiameter, maxTarget * d.stressScale);
+    const double eLo = eMatch / kHertzSoftest;
+
+    std::vector<std::vector<Branch>> all;
+    std::vector<double> curv;
+    const auto runDem = [&](const std::string& name, double modulus) {
+        DemRun run;
+        run.name = name;
+        run.hertzModulus = modulus;
+        std::string args = " --material frictional --relax_C 0 --kc_over_k 0 --k_over_k1 1 --d_mean " + fmt(kDemMeanDiameter) +
+                           " --stress_scale " + fmt(d.stressScale);
+        if (ctx.opt.mode != "ft4") args += " " + std::string(kNonlinearityFastBed);
+        if (modulus > 0) args += " --hertz_modulus " + fmt(modulus);
+        std::vector<Branch> br;
+        if (ctx.run(run, protocolPath, args)) {
+            try {
+                br = readDemRecord(ctx.workDir + "/" + name).branches;
+            } catch (const InputError&) {
+                br.clear();  // an unreadable DEM record: the run counts as failed
+            }
+        }
+        all.push_back(br);
+        curv.push_back(unloadCurvature(br, cal, d.ratioYMin));
+        d.runs.back().macro = curv.back();
+        return samePhases(lab, br) && curv.back() > 0;
+    };
+    const auto mismatch = [&](const std::string& name) {
+        return ctx.fail("DEM run " + name + " failed, its unload/reload branches do not pair with the recording's " +
+                        std::to_string(lab.size()) + " or its unloads give no curvature (log: " + name + ".log)");
+    };
+    if (!runDem("dem_baseline", 0)) return mismatch("dem_baseline");
+    if (d.labMacro <= curv[0] + kCurvatureMargin) {
+        d.status = "contradicted";
+        d.reason = "the recording's unloading curvature, " + fmt(d.labMacro) + ", is not above the linear-contact DEM bed's " + fmt(curv[0]) +
+                   " by at least " + fmt(kCurvatureMargin) +
+                   ": its unloads show no stiffness falling with the force beyond what the packing itself gives, so Hertzian contacts "
+                   "are not what the record shows";
+        return ctx.finish();
+    }
+    // Hertzian runs: E* = eMatch / 10; then the secant on the curvature against ln E* through the
+    // linear bed (placed at E* = eMatch, where a Hertzian bed measured like the linear one) and run
+    // a, aimed at the recording's; a third run from the secant through a and b when neither is within
+    // 10 % of the recording's excess over the linear bed
+    // (the curvature must grow as E* falls; NaN where the two points do not show that, bed-to-bed
+    // scatter being larger than the step)
+    const auto secant = [&](double x0, double q0, double x1, double q1) {
+        const bool falling = (q1 - q0) * (x1 - x0) < 0 && std::abs(q1 - q0) > 1e-3;
+        if (!falling) return std::numeric_limits<double>::quiet_NaN();
+        return std::clamp(std::exp(x0 + (x1 - x0) * (d.labMacro - q0) / (q1 - q0)), eLo, eMatch);
+    };
+    const double eA = eMatch / 10;
+    if (!runDem("dem_hertz_a", eA)) return mismatch("dem_hertz_a");
+    double eB = secant(std::log(eMatch), curv[0], std::log(eA), curv[1]);
+    if (std::isnan(eB)) eB = std::max(eA / 10, eLo);  // run a no more curved than the linear bed (which the recording exceeds): softer
+    if (eB != eA) {
+        if (!runDem("dem_hertz_b", eB)) return mismatch("dem_hertz_b");
+        const double tol = 0.1 * (d.labMacro - curv[0]);
+        if (std::abs(curv[1] - d.labMacro) > tol && std::abs(curv[2] - d.labMacro) > tol) {
+            // no third run where a and b do not show the trend (the scatter would aim it anywhere)
+            const double eC = secant(std::log(eA), curv[1], std::log(eB), curv[2]);
+            if (std::isfinite(eC) && eC != eA && eC != eB && !runDem("dem_hertz_c", eC)) return mismatch("dem_hertz_c");
+        }
+    }
+    for (std::size_t q = 0; q < all.size(); ++q) {
+        d.runs[q].calibrationRmse = branchRmse(lab, all[q], cal);
+        d.runs[q].heldoutRmse = branchRmse(lab, all[q], held);
+    }
+    d.chosen = 1;
+    for (std::size_t q = 2; q < d.runs.size(); ++q)
+        if (d.runs[q].calibrationRmse < d.runs[static_cast<std::size_t>(d.chosen)].calibrationRmse) d.chosen = static_cast<int>(q);
+    d.heldoutBaseline = d.runs[0].heldoutRmse;
+    d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
+    d.status = "done";
+    std::vector<Compared> rows;
+    for (std::size_t k = 0; k < lab.size(); ++k) {
+        std::vector<std::vector<double>> pred;
+        for (const auto& run : all) pred.push_back(branchPredict(lab, run, k));
+        for (std::size_t i = 0; i < lab[k].u.size(); ++i) {
+            Compared c{k, lab[k].phase == Phase::Reload, lab[k].e[i], lab[k].s[i], {}};
+            for (const auto& p : pred) c.pred.push_back(p[i]);
+            rows.push_back(std::move(c));
+        }
+    }
+    writeComparison(ctx.workDir, rows, d, "axial_strain", "axial strain", ctx.opt.figures);
+    return ctx.finish();
+}
+
 } // namespace
+
+double hertzModulusMatching(double k, double d, double stress) {
+    const double f = std::numbers::pi * d * d * stress / (3 * kDemPackingPhiZ);  // mean contact force
+    const double delta = f / k;                                                  // the linear law's overlap
+    return 3 * k / (4 * std::sqrt(0.25 * d * delta));                            // (4/3) E* sqrt(R delta) delta = k delta, R = d/4
+}
 
 std::string defaultDemDriver() {
     std::error_code ec;
@@ -701,8 +864,13 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     // when it is the only one)
     const MechanismResult* m = nullptr;
     const MechanismResult* wallWithoutSize = nullptr;
+    const MechanismResult* nonlinearity = nullptr;
     for (const auto& mr : r.mechanisms) {
         if (!demSupported(mr.comp)) continue;
+        if (mr.comp == kNonlinearity) {  // last choice: every other ingredient changes the loading curve too
+            if (!nonlinearity) nonlinearity = &mr;
+            continue;
+        }
         if (mr.comp == kWallFriction && !wallWithoutSize) {
             if (!protoError.empty() || !(proto.diameter > 0 && proto.height > 0)) {
                 wallWithoutSize = &mr;
@@ -712,11 +880,29 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         m = &mr;
         break;
     }
+    if (!m) m = nonlinearity;
     if (!m) m = wallWithoutSize;
+    if (!opt.mechanism.empty()) {  // the user's choice among the accepted mechanisms
+        m = nullptr;
+        for (const auto& mr : r.mechanisms)
+            if (opt.mechanism == compName(mr.comp)) m = &mr;
+        if (!m) {
+            d.mechanism = opt.mechanism;
+            d.reason = "--dem_mechanism " + opt.mechanism + " was not accepted by the explanation, so there is nothing to confirm";
+            return d;
+        }
+        if (!demSupported(m->comp)) {
+            d.status = "not_supported";
+            d.mechanism = opt.mechanism;
+            d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction and stiffness_nonlinearity; " +
+                       d.mechanism + " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
+            return d;
+        }
+    }
     if (!m) {
         d.status = "not_supported";
         d.mechanism = compName(r.mechanisms.front().comp);
-        d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity and wall_friction; " + d.mechanism +
+        d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction and stiffness_nonlinearity; " + d.mechanism +
                    " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
         return d;
     }
@@ -733,11 +919,12 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     switch (m->comp) {
         case kRelaxation: return confirmRelaxation(ctx, *m, rec, protocolPath);
         case kPlasticity: return confirmPlasticity(ctx, *m, rec, protocolPath);
+        case kNonlinearity: return confirmNonlinearity(ctx, *m, rec, protocolPath);
         default: return confirmWallFriction(ctx, *m, rec, protocolPath);
     }
 }
 
-bool demSupported(int comp) { return comp == kRelaxation || comp == kPlasticity || comp == kWallFriction; }
+bool demSupported(int comp) { return comp == kRelaxation || comp == kPlasticity || comp == kWallFriction || comp == kNonlinearity; }
 
 Json demJson(const DemResult& d) {
     Json j = Json::object();
@@ -745,7 +932,8 @@ Json demJson(const DemResult& d) {
     if (!d.reason.empty()) j.set("reason", d.reason);
     if (!d.mechanism.empty()) j.set("mechanism", d.mechanism);
     const auto num = [](double x) { return x >= 0 && std::isfinite(x) ? Json(x) : Json(); };
-    const bool plastic = d.mechanism == "plasticity", wall = d.mechanism == "wall_friction", branches = plastic || wall;
+    const bool plastic = d.mechanism == "plasticity", wall = d.mechanism == "wall_friction";
+    const bool hertz = d.mechanism == "stiffness_nonlinearity", branches = plastic || wall || hertz;
     j.set("heldout_rmse_baseline", num(d.heldoutBaseline));
     j.set("heldout_rmse_augmented", num(d.heldoutAugmented));
     if (d.status == "done") {
@@ -753,11 +941,12 @@ Json demJson(const DemResult& d) {
         j.set(branches ? "calibration_branches" : "calibration_holds", d.calibrationHolds);
         j.set(branches ? "heldout_branches" : "heldout_holds", d.heldoutHolds);
         j.set("chosen_run", d.runs[static_cast<std::size_t>(d.chosen)].name);
-        if (branches) {
-            j.set("stress_scale", d.stressScale);
+        if (branches) j.set("stress_scale", d.stressScale);
+        if (plastic || wall) {
             j.set("recording_unload_stiffness_ratio_calibration_branches", num(d.labMacro));
             j.set("unload_ratio_min_y", d.ratioYMin);
         }
+        if (hertz) j.set("surrogate_exponent_n", num(d.surrogateValue));
         if (wall) {
             j.set("mould_diameter_m", d.mouldDiameter);
             j.set("mould_height_m", d.mouldHeight);
@@ -765,6 +954,10 @@ Json demJson(const DemResult& d) {
         }
     }
     if (branches && !d.calibration.empty()) j.set("calibration", d.calibration);
+    if (hertz && d.labMacro > 0) {
+        j.set("recording_unload_curvature_calibration_branches", d.labMacro);
+        j.set("curvature_secant_to_y", d.ratioYMin);
+    }
     if (d.labTransmission > 0) j.set("recording_bottom_over_piston_loading", d.labTransmission);
     if (d.transmissionTarget > 0) j.set("bottom_over_piston_target", d.transmissionTarget);
     if (d.heldoutBottomBaseline >= 0) {
@@ -774,7 +967,10 @@ Json demJson(const DemResult& d) {
     Json runs = Json::array();
     for (const DemRun& r : d.runs) {
         Json o = Json::object({{"name", r.name}});
-        if (branches) {
+        if (hertz) {
+            o.set("hertz_modulus_Pa", r.hertzModulus);
+            o.set("dem_unload_curvature_calibration_branches", num(r.macro));
+        } else if (branches) {
             if (plastic) o.set("k_over_k1", r.kOverK1);
             else o.set("wall_friction", r.wallFriction);
             if (d.calibration == "bottom_over_piston_secant") o.set("dem_bottom_over_piston_loading", num(r.transmission));
@@ -822,6 +1018,19 @@ std::string demMarkdown(const DemResult& d) {
                       "commands and logs are in `dem/`.\n",
                       d.stressScale, a.kOverK1, d.calibrationHolds, d.labMacro, a.macro, d.heldoutHolds, d.heldoutBaseline,
                       d.heldoutAugmented, gain, way);
+    else if (d.mechanism == "stiffness_nonlinearity")
+        std::snprintf(buf, sizeof buf,
+                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
+                      "material's range; the non-cohesive frictional material), once with linear elastic contacts and "
+                      "with Hertzian ones, whose stiffness falls with the force: E* = %.4g Pa (of %zu values), calibrated "
+                      "on %d unload branch(es) to the recording's unloading curvature (tangent at the top over the secant "
+                      "to %.0f %% of the start stress: recording %.3g, Hertzian DEM %.3g, linear DEM %.3g). Compared in units "
+                      "of each branch's start stress and loading stiffness, on the %d reload branch(es) the calibration did "
+                      "not see the DEM misses the recording by %.4g Pa (RMS) with linear contacts and %.4g Pa with "
+                      "Hertzian ones (%.1f %% %s). Runs, commands and logs are in `dem/`.\n",
+                      d.stressScale, a.hertzModulus, d.runs.size() - 1, d.calibrationHolds, 100 * d.ratioYMin, d.labMacro, a.macro,
+                      d.runs.front().macro,
+                      d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain, way);
     else if (d.mechanism == "wall_friction" && d.calibration == "bottom_over_piston_secant")
         std::snprintf(buf, sizeof buf,
                       "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "

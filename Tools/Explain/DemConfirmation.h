@@ -37,6 +37,21 @@
 // augmented run with the smallest unload error scored. The piston-only unloading ratio (y >= 0.6) is
 // reported but not aimed at: in a mould of a thousand particles it is not monotone in mu_w
 // (Documentation/tools-explain.md).
+//
+// And for stiffness_nonlinearity (driver flag --hertz_modulus: Hertz's normal force in place of
+// Luding's, every other part of the law kept; the non-cohesive frictional material; plasticity,
+// adhesion and relaxation off in every run): the branches, normalisation and held-out reloads of
+// plasticity, calibrated on the unloading's curvature (unloadCurvature: the tangent at the top over
+// the secant to 20 % of the start stress, or to just above the lowest stress the recording's unloads
+// reach; 1 for a straight unload). Runs: linear contacts; Hertz
+// with E* = hertzModulusMatching / 10 (at hertzModulusMatching itself, where the Hertz force equals
+// the linear one at the mean contact force of the top stress, the bed's unloading measured like
+// the linear bed's); the secant on the curvature against ln E* aimed at the recording's; a third
+// secant step when neither is within 10 % of the recording's excess over the linear bed. The run with
+// the smallest calibration error is scored. A recording whose unloading is not more curved than the
+// linear bed's (by kCurvatureMargin) makes the status "contradicted". Confirmed only when no other
+// accepted mechanism has a DEM counterpart that can run (wall_friction without the device's size
+// cannot), or when DemOptions::mechanism names it.
 #pragma once
 #include <string>
 #include <vector>
@@ -49,6 +64,8 @@ namespace pdpm::explain {
 struct DemOptions {
     std::string mode = "fast";  ///< off | fast (periodic bed, default driver size; wall_friction: a mould 12 mean diameters across) | ft4 (D = H = 50 mm mould; wall_friction: D = 50 mm at the recording's H/D)
     std::string driver;         ///< OedometerRelaxation executable (empty: next to this program)
+    /// the accepted mechanism to confirm (empty: the first accepted one with a DEM counterpart)
+    std::string mechanism;
     int threads = 1;
     bool figures = true;        ///< dem/comparison.png (gnuplot)
 };
@@ -67,17 +84,41 @@ inline constexpr double kDemMeanDiameter = 2.5e-3;
 /// follows from the recording's H/D).
 inline constexpr double kFastMouldDiameters = 12;
 
+/// Stiffness k (N/m) of the linear contacts of the DEM runs (the cocoa material, thesis Table 5.3).
+inline constexpr double kDemContactStiffness = 24067;
+/// Volume fraction times coordination number of the poured DEM bed at a few kPa (0.55-0.6 x 4.5-5),
+/// in the mean contact force f = pi d^2 sigma / (3 phi Z) of hertzModulusMatching.
+inline constexpr double kDemPackingPhiZ = 2.7;
+/// stiffness_nonlinearity: the softest Hertzian run has E* = hertzModulusMatching / kHertzSoftest.
+inline constexpr double kHertzSoftest = 1000;
+/// stiffness_nonlinearity: how far the recording's unloading curvature must exceed the linear bed's
+/// (about three times the bed-to-bed scatter of the linear bed's, +-0.04).
+inline constexpr double kCurvatureMargin = 0.1;
+/// stiffness_nonlinearity: the unloading curvature's secant ends where the unload reaches this fraction
+/// of its start stress, or just above the lowest stress of the recording's unloads when they stop
+/// higher, but not above kCurvatureMaxLowY (then: not_run).
+inline constexpr double kCurvatureLowY = 0.2, kCurvatureMaxLowY = 0.6;
+/// stiffness_nonlinearity, fast mode: a laterally periodic bed of about 940 particles (the driver's
+/// default 180-particle bed is dominated by collapses).
+inline constexpr const char* kNonlinearityFastBed = "--width 10 --fill_height 10";
+
+/// Effective Young's modulus E* whose Hertz force (4/3) E* sqrt(R delta) delta equals the linear force
+/// k delta at the overlap delta = f/k of the mean contact force f = pi d^2 stress / (3 phi Z) between two
+/// spheres of diameter d (R = d/4) under the bulk stress `stress` (Pa).
+double hertzModulusMatching(double k, double d, double stress);
 struct DemRun {
     std::string name;
     double relaxC = 0, relaxT0 = 0;  ///< contact_relaxation runs
     double kOverK1 = 0;              ///< plasticity runs
     double wallFriction = 0;         ///< wall_friction runs (mu_w)
+    double hertzModulus = 0;         ///< stiffness_nonlinearity runs (E*, Pa; 0: linear contacts)
     /// bottom/piston stress ratio of the first loading (-1: no bottom stress recorded)
     double transmission = -1;
     double calibrationRmse = -1, heldoutRmse = -1;  ///< Pa
     double heldoutBottomRmse = -1;  ///< wall_friction with a bottom sensor: the held-out branches' bottom stress (Pa)
     /// contact_relaxation: mean fitted C of the DEM calibration holds; plasticity, wall_friction:
-    /// unloading stiffness ratio measured on the DEM calibration branches
+    /// unloading stiffness ratio measured on the DEM calibration branches; stiffness_nonlinearity: their
+    /// unloading curvature
     double macro = -1;
     double wallSeconds = 0;
     std::string command;
@@ -92,10 +133,15 @@ struct DemResult {
     int chosen = -1;  ///< index of the scored augmented run
     int calibrationHolds = 0, heldoutHolds = 0;  ///< holds (contact_relaxation) or unload/reload branches (the others)
     double stressScale = 1;   ///< plasticity, wall_friction: factor applied to the protocol's stresses
-    double labMacro = -1;     ///< plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches)
+    /// plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches);
+    /// stiffness_nonlinearity: the recording's unloading curvature (calibration branches)
+    double labMacro = -1;
+    double surrogateValue = -1;  ///< stiffness_nonlinearity: the explainer's exponent n
     double mouldDiameter = 0, mouldHeight = 0;  ///< wall_friction: the DEM mould (m)
     double recordingAspect = 0;  ///< wall_friction: the recording's H/D (the mould's differs where it cannot be kept)
-    double ratioYMin = 0;     ///< plasticity, wall_friction: the unloading ratio's window, unload samples with y >= ratioYMin
+    /// plasticity, wall_friction: the unloading ratio's window, unload samples with y >= ratioYMin;
+    /// stiffness_nonlinearity: where the curvature's secant ends (fraction of the start stress)
+    double ratioYMin = 0;
     /// plasticity, wall_friction: unload_ratio_secant | unload_error_grid | bottom_over_piston_secant
     std::string calibration;
     /// bottom_over_piston_secant: the recording's bottom/piston ratio on its first loading, and the
@@ -113,7 +159,8 @@ std::string defaultDemDriver();
 /// A word for /bin/sh: single-quoted, embedded quotes escaped.
 std::string shellQuote(const std::string& s);
 
-/// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity, wall_friction).
+/// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity, wall_friction,
+/// stiffness_nonlinearity).
 bool demSupported(int comp);
 
 /// Runs the confirmation for the first accepted mechanism of `r` that has one (workDir receives the runs).

@@ -35,8 +35,12 @@ int runExplainCommand(const std::vector<std::string>& args) {
                 "DEM confirmation of an accepted mechanism: off, fast (small periodic bed; wall_friction: a mould about 30 mm across) or ft4 (50 mm mould; slow)");
         cli.add("dem_driver", &dem.driver, "", "OedometerRelaxation executable (default: next to pdpm-explain)");
         cli.add("dem_threads", &dem.threads, 1, "OpenMP threads of the DEM runs", 1, 256);
+        cli.add("dem_mechanism", &dem.mechanism, "",
+                "accepted mechanism to confirm with the DEM (default: the first accepted one with a DEM counterpart, stiffness_nonlinearity last)");
         if (!cli.parse(args, std::cout)) return 0;
         if (dem.mode != "off" && dem.mode != "fast" && dem.mode != "ft4") inputError("--dem: expected off, fast or ft4, got '" + dem.mode + "'");
+        if (!dem.mechanism.empty() && !(compFromName(dem.mechanism) >= 0 && isMechanism(compFromName(dem.mechanism))))
+            inputError("--dem_mechanism: unknown mechanism '" + dem.mechanism + "'");
         if (recordings.empty()) inputError("--recording is required");
         if (protocols.empty()) inputError("--protocol is required");
         if (protocols.size() != 1 && protocols.size() != recordings.size())
@@ -66,13 +70,22 @@ int runExplainCommand(const std::vector<std::string>& args) {
             writeSeveralReport(output, several, recs, protos, opt);
         }
         // Step 6: the DEM re-run, on the first recording whose own explanation accepted a mechanism the
-        // DEM step supports (contact_relaxation, plasticity, wall_friction; else recording 1); its block
-        // replaces the placeholder.
+        // DEM step supports (contact_relaxation, plasticity, wall_friction; stiffness_nonlinearity only
+        // where no recording has one of those; with --dem_mechanism the named one; else recording 1);
+        // its block replaces the placeholder.
         std::size_t demRec = 0;
+        // (wall_friction without the device's size ranks with stiffness_nonlinearity, as in confirmWithDem)
+        const auto rank = [&](int comp, std::size_t k) {
+            if (!dem.mechanism.empty()) return compName(comp) == dem.mechanism ? 2 : 0;
+            if (!demSupported(comp)) return 0;
+            if (comp == kNonlinearity || (comp == kWallFriction && !(protos[k].diameter > 0 && protos[k].height > 0))) return 1;
+            return 2;
+        };
+        int bestRank = 0;
         if (recs.size() > 1)
-            for (std::size_t k = recs.size(); k-- > 0;)
+            for (std::size_t k = 0; k < recs.size(); ++k)
                 for (const auto& m : several.per[k].mechanisms)
-                    if (demSupported(m.comp)) demRec = k;
+                    if (rank(m.comp, k) > bestRank) bestRank = rank(m.comp, k), demRec = k;
         const ExplainResult& r = recs.size() == 1 ? single : several.per[demRec];
         const DemResult d = confirmWithDem(r, recs[demRec], protocols[protocols.size() == 1 ? 0 : demRec], dem, output + "/dem");
         for (const std::string& dir : recs.size() == 1 ? std::vector<std::string>{output}
