@@ -410,6 +410,57 @@ DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const
     return ctx.finish();
 }
 
+/// The branch confirmations' split of the lab branches: the unloads calibrate, the reloads after them
+/// are held out. False (status not_run, with the reason) when either is missing.
+bool splitBranches(DemResult& d, const std::vector<Branch>& lab, std::vector<std::size_t>& cal, std::vector<std::size_t>& held) {
+    for (std::size_t k = 0; k < lab.size(); ++k) (lab[k].phase == Phase::Unload ? cal : held).push_back(k);
+    if (cal.empty() || held.empty()) {
+        d.status = "not_run";
+        d.reason = "the recording needs an unload (calibration) and a reload after it (held out) with a loading before them; it has " +
+                   std::to_string(cal.size()) + " usable unload and " + std::to_string(held.size()) + " reload branch(es)";
+        return false;
+    }
+    d.calibrationHolds = static_cast<int>(cal.size());
+    d.heldoutHolds = static_cast<int>(held.size());
+    return true;
+}
+
+/// The protocol's stresses brought into the material's range (at most kDemMaxStress; the comparison
+/// is in units of each branch's start stress): sets d.stressScale and returns the protocol's largest
+/// target stress (Pa), or sets the status (failed: no protocol; not_run: no stress targets) and
+/// returns 0.
+double scaleProtocolStress(DemContext& ctx) {
+    DemResult& d = ctx.d;
+    if (!ctx.protocol) {
+        ctx.fail("protocol: " + ctx.protocolError);
+        return 0;
+    }
+    double maxTarget = 0;
+    for (const recording::Step& st : ctx.protocol->steps) maxTarget = std::max(maxTarget, st.targetStress);
+    if (!(maxTarget > 0)) {  // a protocol without stress targets (the import knew only the strain path)
+        d.status = "not_run";
+        d.reason = "the protocol's steps have no target stress, and the DEM driver replays a protocol by its stress targets";
+        return 0;
+    }
+    d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
+    return maxTarget;
+}
+
+/// dem/comparison.csv (and .png) of a branch confirmation: every lab branch sample, the reloads held out.
+void writeBranchComparison(const DemContext& ctx, const std::vector<Branch>& lab, const std::vector<std::vector<Branch>>& all) {
+    std::vector<Compared> rows;
+    for (std::size_t k = 0; k < lab.size(); ++k) {
+        std::vector<std::vector<double>> pred;
+        for (const auto& run : all) pred.push_back(branchPredict(lab, run, k));
+        for (std::size_t i = 0; i < lab[k].u.size(); ++i) {
+            Compared c{k, lab[k].phase == Phase::Reload, lab[k].e[i], lab[k].s[i], {}};
+            for (const auto& p : pred) c.pred.push_back(p[i]);
+            rows.push_back(std::move(c));
+        }
+    }
+    writeComparison(ctx.workDir, rows, ctx.d, "axial_strain", "axial strain", ctx.opt.figures);
+}
+
 /// How a branch confirmation calibrates its knob.
 enum class Calibration {
     UnloadRatio,   ///< secant on the unloading ratio (over the unload samples with y >= yMin)
@@ -452,15 +503,7 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     // lab branches: the unloads calibrate, the reloads are held out
     const std::vector<Branch> lab = cycleBranches(rec.t, rec.strain, rec.stress, rec.bottom);
     std::vector<std::size_t> cal, held;
-    for (std::size_t k = 0; k < lab.size(); ++k) (lab[k].phase == Phase::Unload ? cal : held).push_back(k);
-    if (cal.empty() || held.empty()) {
-        d.status = "not_run";
-        d.reason = "the recording needs an unload (calibration) and a reload after it (held out) with a loading before them; it has " +
-                   std::to_string(cal.size()) + " usable unload and " + std::to_string(held.size()) + " reload branch(es)";
-        return ctx.finish();
-    }
-    d.calibrationHolds = static_cast<int>(cal.size());
-    d.heldoutHolds = static_cast<int>(held.size());
+    if (!splitBranches(d, lab, cal, held)) return ctx.finish();
     d.ratioYMin = knob.yMin;
     const double labRatio = unloadRatio(lab, cal, knob.yMin);
     const bool byTransmission = knob.calibration == Calibration::Transmission;
@@ -471,17 +514,8 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
         if (!(d.labTransmission > 0)) return ctx.fail("the recording's bottom stress gives no bottom/piston ratio on its first loading");
     }
 
-    // the protocol's stresses brought into the material's range (Luding's law is piecewise linear
-    // in the overlap, and the comparison is in units of each branch's start stress)
-    if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
-    double maxTarget = 0;
-    for (const recording::Step& st : ctx.protocol->steps) maxTarget = std::max(maxTarget, st.targetStress);
-    if (!(maxTarget > 0)) {  // a protocol without stress targets (the import knew only the strain path)
-        d.status = "not_run";
-        d.reason = "the protocol's steps have no target stress, and the DEM driver replays a protocol by its stress targets";
-        return ctx.finish();
-    }
-    d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
+    // (Luding's law is piecewise linear in the overlap, so the stress level matters little)
+    if (!(scaleProtocolStress(ctx) > 0)) return ctx.finish();
 
     auto runDem = [&](const std::string& name, double value) -> DemRecord {
         DemRun run;
@@ -586,17 +620,7 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     d.heldoutBottomBaseline = d.runs[0].heldoutBottomRmse;
     d.heldoutBottomAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutBottomRmse;
     d.status = "done";
-    std::vector<Compared> rows;
-    for (std::size_t k = 0; k < lab.size(); ++k) {
-        std::vector<std::vector<double>> pred;
-        for (const auto& run : all) pred.push_back(branchPredict(lab, run, k));
-        for (std::size_t i = 0; i < lab[k].u.size(); ++i) {
-            Compared c{k, lab[k].phase == Phase::Reload, lab[k].e[i], lab[k].s[i], {}};
-            for (const auto& p : pred) c.pred.push_back(p[i]);
-            rows.push_back(std::move(c));
-        }
-    }
-    writeComparison(ctx.workDir, rows, d, "axial_strain", "axial strain", ctx.opt.figures);
+    writeBranchComparison(ctx, lab, all);
     return ctx.finish();
 }
 
@@ -701,15 +725,7 @@ DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, co
         if (nonlin.params[q] == pExpN) d.surrogateValue = nonlin.value[q];
     const std::vector<Branch> lab = cycleBranches(rec.t, rec.strain, rec.stress);
     std::vector<std::size_t> cal, held;
-    for (std::size_t k = 0; k < lab.size(); ++k) (lab[k].phase == Phase::Unload ? cal : held).push_back(k);
-    if (cal.empty() || held.empty()) {
-        d.status = "not_run";
-        d.reason = "the recording needs an unload (calibration) and a reload after it (held out) with a loading before them; it has " +
-                   std::to_string(cal.size()) + " usable unload and " + std::to_string(held.size()) + " reload branch(es)";
-        return ctx.finish();
-    }
-    d.calibrationHolds = static_cast<int>(cal.size());
-    d.heldoutHolds = static_cast<int>(held.size());
+    if (!splitBranches(d, lab, cal, held)) return ctx.finish();
     // the secant ends at 20 % of the start stress, or just above the lowest stress the recording's
     // unloads reach (the DEM runs follow the same protocol, so they reach it too)
     double yMinLab = 1;
@@ -723,15 +739,8 @@ DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, co
                    "an unload to at most " + fmt(100 * (kCurvatureMaxLowY - 0.02)) + " % with at least 3 samples above 80 %";
         return ctx.finish();
     }
-    if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
-    double maxTarget = 0;
-    for (const recording::Step& st : ctx.protocol->steps) maxTarget = std::max(maxTarget, st.targetStress);
-    if (!(maxTarget > 0)) {  // a protocol without stress targets (the import knew only the strain path)
-        d.status = "not_run";
-        d.reason = "the protocol's steps have no target stress, and the DEM driver replays a protocol by its stress targets";
-        return ctx.finish();
-    }
-    d.stressScale = maxTarget > kDemMaxStress ? kDemMaxStress / maxTarget : 1.0;
+    const double maxTarget = scaleProtocolStress(ctx);
+    if (!(maxTarget > 0)) return ctx.finish();
     const double eMatch = hertzModulusMatching(kDemContactStiffness, kDemMeanDiameter, maxTarget * d.stressScale);
     const double eLo = eMatch / kHertzSoftest;
 
@@ -805,17 +814,7 @@ DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, co
     d.heldoutBaseline = d.runs[0].heldoutRmse;
     d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
     d.status = "done";
-    std::vector<Compared> rows;
-    for (std::size_t k = 0; k < lab.size(); ++k) {
-        std::vector<std::vector<double>> pred;
-        for (const auto& run : all) pred.push_back(branchPredict(lab, run, k));
-        for (std::size_t i = 0; i < lab[k].u.size(); ++i) {
-            Compared c{k, lab[k].phase == Phase::Reload, lab[k].e[i], lab[k].s[i], {}};
-            for (const auto& p : pred) c.pred.push_back(p[i]);
-            rows.push_back(std::move(c));
-        }
-    }
-    writeComparison(ctx.workDir, rows, d, "axial_strain", "axial strain", ctx.opt.figures);
+    writeBranchComparison(ctx, lab, all);
     return ctx.finish();
 }
 
