@@ -635,6 +635,20 @@ ExplainResult accepted(int comp, int par, double value) {
     return r;
 }
 
+/// Writes the executable stand-in driver script `path`: "#!/bin/sh", the shell assignments `defaults`,
+/// a loop reading every "--flag value" pair into the variable v_flag (a flag without a value: v_flag=1;
+/// characters other than letters, digits and _ become _), then `body`.
+void writeStandInScript(const std::string& path, const std::string& defaults, const std::string& body) {
+    writeWholeFile(path, "#!/bin/sh\n" + defaults + R"(while [ $# -gt 0 ]; do
+  case "$1" in
+    --*) key=$(printf %s "${1#--}" | tr -c 'a-zA-Z0-9_\n' _)
+         case "$2" in --*|'') eval "v_$key=1";; *) eval "v_$key=\$2"; shift;; esac;;
+  esac; shift
+done
+)" + body);
+    std::filesystem::permissions(path, std::filesystem::perms::owner_all);
+}
+
 /// A shell script standing in for the OedometerRelaxation driver: it reads every "--flag value" pair
 /// into a variable v_flag, appends the values of the flags in `logged` (one line per run) to
 /// OUTPUT/calls.txt, and writes NAME.recording.csv: the linear elastic-plastic record (load to strain
@@ -645,14 +659,7 @@ void writeStandInDriver(const std::string& path, const std::string& knob, const 
                         const std::vector<std::string>& logged, const std::string& bottom = "") {
     std::string log;
     for (const std::string& f : logged) log += (log.empty() ? "$v_" : " $v_") + f;
-    writeWholeFile(path, R"(#!/bin/sh
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --*) key=$(printf %s "${1#--}" | tr -c 'a-zA-Z0-9_\n' _)
-         case "$2" in --*|'') eval "v_$key=1";; *) eval "v_$key=\$2"; shift;; esac;;
-  esac; shift
-done
-echo ")" + log + R"(" >> "$v_output/calls.txt"
+    writeStandInScript(path, "", R"(echo ")" + log + R"(" >> "$v_output/calls.txt"
 awk -v k="$v_)" + knob + R"(" -v sc="$v_stress_scale" 'function row(e, s) {
     if (tb == "") printf "%d,%.17g,%.17g\n", t++, e, s; else printf "%d,%.17g,%.17g,%.17g\n", t++, e, s, tb * s
   }
@@ -666,7 +673,6 @@ awk -v k="$v_)" + knob + R"(" -v sc="$v_stress_scale" 'function row(e, s) {
   for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); row(e, E * e) }
 }' > "$v_output/$v_name.recording.csv"
 )");
-    std::filesystem::permissions(path, std::filesystem::perms::owner_all);
 }
 
 /// confirmWithDem (fast mode) against a fresh stand-in driver DIR/NAME.sh (writeStandInDriver's
@@ -978,15 +984,7 @@ TEST(ExplainCommand, DemConfirmationNonlinearityCalibratesTheUnloadCurvature) {
     // E* of the first Hertzian run: its force equals the linear one at the overlap of the mean contact force
     const double delta = std::numbers::pi * kDemMeanDiameter * kDemMeanDiameter * 20e3 / (3 * kDemPackingPhiZ) / kDemContactStiffness;
     EXPECT_NEAR(4.0 / 3.0 * eMatch * std::sqrt(kDemMeanDiameter / 4 * delta) * delta, kDemContactStiffness * delta, 1e-9 * delta);
-    writeWholeFile(dir + "/driver.sh", R"(#!/bin/sh
-v_hertz_modulus=0
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --*) key=$(printf %s "${1#--}" | tr -c 'a-zA-Z0-9_\n' _)
-         case "$2" in --*|'') eval "v_$key=1";; *) eval "v_$key=\$2"; shift;; esac;;
-  esac; shift
-done
-echo "$v_hertz_modulus $v_stress_scale $v_material $v_k_over_k1 $v_kc_over_k $v_relax_C" >> "$v_output/calls.txt"
+    writeStandInScript(dir + "/driver.sh", "v_hertz_modulus=0\n", R"(echo "$v_hertz_modulus $v_stress_scale $v_material $v_k_over_k1 $v_kc_over_k $v_relax_C" >> "$v_output/calls.txt"
 awk -v h="$v_hertz_modulus" -v sc="$v_stress_scale" -v em0=")" + fmt(eMatch) + R"(" 'BEGIN {
   m = h > 0 ? 1 + 0.4 * log(em0 / h) / log(10) : 1; E = 1e6 * sc; em = 0.02; n = 200
   xh = em / 3; el = em - xh * (1 - 0.05 ^ (1 / m)); t = 0
@@ -997,7 +995,6 @@ awk -v h="$v_hertz_modulus" -v sc="$v_stress_scale" -v em0=")" + fmt(eMatch) + R
   for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
 }' > "$v_output/$v_name.recording.csv"
 )");
-    std::filesystem::permissions(dir + "/driver.sh", std::filesystem::perms::owner_all);
     const Recording rec = curvedCycle(5e7, 0.008, 1.6, 40);
     const ExplainResult r = accepted(kNonlinearity, pExpN, 1.45);
     DemOptions opt;

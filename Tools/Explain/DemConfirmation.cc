@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -989,6 +990,20 @@ Json demJson(const DemResult& d) {
     return j;
 }
 
+namespace {
+/// printf into a string.
+__attribute__((format(printf, 1, 2))) std::string formatted(const char* format, ...) {
+    char buf[1500];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(buf, sizeof buf, format, args);
+    va_end(args);
+    return buf;
+}
+} // namespace
+
+// The paragraph: what was re-run (shared opening), how the ingredient was set (the mechanism's
+// middle), and the held-out errors of the two runs (shared ending).
 std::string demMarkdown(const DemResult& d) {
     std::ostringstream os;
     os << "\n## DEM confirmation\n\n";
@@ -998,77 +1013,65 @@ std::string demMarkdown(const DemResult& d) {
     }
     const DemRun& a = d.runs[static_cast<std::size_t>(d.chosen)];
     const double change = d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0;
-    const double gain = std::abs(change);
-    const char* way = change >= 0 ? "lower" : "higher";
-    char buf[2000], atMould[80] = "", bottomHeld[120] = "";
-    if (d.heldoutBottomBaseline >= 0 && d.heldoutBottomAugmented >= 0)
-        std::snprintf(bottomHeld, sizeof bottomHeld, "; the bottom stress on the same branches by %.4g Pa and %.4g Pa",
-                      d.heldoutBottomBaseline, d.heldoutBottomAugmented);
-    if (d.transmissionTarget > 0 && std::abs(d.transmissionTarget - d.labTransmission) > 1e-9 * d.labTransmission)
-        std::snprintf(atMould, sizeof atMould, ", %.3g at the mould's H/D", d.transmissionTarget);
-    if (d.mechanism == "plasticity")
-        std::snprintf(buf, sizeof buf,
-                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
-                      "material's range), once with an elastic contact law (Luding k/k1 = 1) and once with plastic "
-                      "contacts (k/k1 = %.4g, calibrated on %d unload/reload branch(es) to the recording's unloading "
-                      "stiffness ratio %.3g; the DEM gives %.3g). Compared in units of each branch's start stress and "
-                      "loading stiffness, on the %d branch(es) the calibration did not see the DEM misses the recording "
-                      "by %.4g Pa (RMS) with elastic contacts and %.4g Pa with plastic ones (%.1f %% %s). Runs, "
-                      "commands and logs are in `dem/`.\n",
-                      d.stressScale, a.kOverK1, d.calibrationHolds, d.labMacro, a.macro, d.heldoutHolds, d.heldoutBaseline,
-                      d.heldoutAugmented, gain, way);
-    else if (d.mechanism == "stiffness_nonlinearity")
-        std::snprintf(buf, sizeof buf,
-                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
-                      "material's range; the non-cohesive frictional material), once with linear elastic contacts and "
-                      "with Hertzian ones, whose stiffness falls with the force: E* = %.4g Pa (of %zu values), calibrated "
-                      "on %d unload branch(es) to the recording's unloading curvature (tangent at the top over the secant "
-                      "to %.0f %% of the start stress: recording %.3g, Hertzian DEM %.3g, linear DEM %.3g). Compared in units "
-                      "of each branch's start stress and loading stiffness, on the %d reload branch(es) the calibration did "
-                      "not see the DEM misses the recording by %.4g Pa (RMS) with linear contacts and %.4g Pa with "
-                      "Hertzian ones (%.1f %% %s). Runs, commands and logs are in `dem/`.\n",
-                      d.stressScale, a.hertzModulus, d.runs.size() - 1, d.calibrationHolds, 100 * d.ratioYMin, d.labMacro, a.macro,
-                      d.runs.front().macro,
-                      d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain, way);
-    else if (d.mechanism == "wall_friction" && d.calibration == "bottom_over_piston_secant")
-        std::snprintf(buf, sizeof buf,
-                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
-                      "material's range) in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), "
-                      "every bed poured with frictionless walls, once with frictionless walls and with wall friction "
-                      "mu_w = %.4g, calibrated so that the bottom plate carries the share of the piston stress the "
-                      "recording's bottom sensor shows on first loading (recording %.3g%s; DEM %.3g with friction, %.3g "
-                      "without; %zu runs with friction, secant on its logarithm). On the %d reload branch(es), compared in "
-                      "units of each branch's start stress and loading stiffness, the DEM misses the recording by %.4g Pa "
-                      "(RMS) with frictionless walls and %.4g Pa with wall friction (%.1f %% %s)%s. Runs, commands and "
-                      "logs are in `dem/`.\n",
-                      d.stressScale, d.mouldDiameter, d.mouldHeight, d.mouldHeight / d.mouldDiameter, d.recordingAspect,
-                      a.wallFriction, d.labTransmission,
-                      atMould,
-                      a.transmission, d.runs.front().transmission, d.runs.size() - 1, d.heldoutHolds, d.heldoutBaseline,
-                      d.heldoutAugmented, gain, way, bottomHeld);
-    else if (d.mechanism == "wall_friction")
-        std::snprintf(buf, sizeof buf,
-                      "The OedometerRelaxation driver was re-run on this protocol (stresses scaled by %.4g into the "
-                      "material's range) in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), "
-                      "every bed poured with frictionless walls, once with frictionless walls and with wall friction "
-                      "mu_w = %.4g (of %zu values around max(2 muK, %.2g) = %.3g, the one with the smallest error on %d "
-                      "unload branch(es)). Compared in units of each branch's start stress and loading stiffness, on the %d "
-                      "branch(es) the choice did not see the DEM misses the recording by %.4g Pa (RMS) with frictionless "
-                      "walls and %.4g Pa with wall friction (%.1f %% %s). Unloading ratio over the top %.0f %% of the "
-                      "unloads: recording %.3g, chosen run %.3g, frictionless %.3g. Runs, commands and logs are in `dem/`.\n",
-                      d.stressScale, d.mouldDiameter, d.mouldHeight, d.mouldHeight / d.mouldDiameter, d.recordingAspect,
-                      a.wallFriction, d.runs.size() - 1, kMinWallFrictionGuess, d.runs.size() > 1 ? d.runs[1].wallFriction : 0.0,
-                      d.calibrationHolds,
-                      d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain, way, 100 * (1 - d.ratioYMin), d.labMacro, a.macro,
-                      d.runs.front().macro);
-    else
-        std::snprintf(buf, sizeof buf,
-                      "The OedometerRelaxation driver was re-run on this protocol, once with the standard contact law and "
-                      "once with contact relaxation switched on (contact C = %.4g, t0 = %.4g s, calibrated on %d hold(s)). "
-                      "On the %d hold(s) the calibration did not see, the DEM hold curves miss the recording by %.4g Pa (RMS) "
-                      "without relaxation and %.4g Pa with it (%.1f %% %s). Runs, commands and logs are in `dem/`.\n",
-                      a.relaxC, a.relaxT0, d.calibrationHolds, d.heldoutHolds, d.heldoutBaseline, d.heldoutAugmented, gain, way);
-    os << buf;
+    const bool branches = d.mechanism != "contact_relaxation";
+    const std::string scaled = formatted(" (stresses scaled by %.4g into the material's range", d.stressScale);
+    const std::string mould = formatted(" in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), every "
+                                        "bed poured with frictionless walls, once with frictionless walls and with wall friction mu_w = %.4g",
+                                        d.mouldDiameter, d.mouldHeight, d.mouldHeight / d.mouldDiameter, d.recordingAspect, a.wallFriction);
+    const char* units = "Compared in units of each branch's start stress and loading stiffness, on ";
+    os << "The OedometerRelaxation driver was re-run on this protocol";
+    std::string without, with, extra;  // the two runs in the ending, and what follows their errors
+    if (d.mechanism == "plasticity") {
+        os << scaled << "), once with an elastic contact law (Luding k/k1 = 1) and once with plastic contacts "
+           << formatted("(k/k1 = %.4g, calibrated on %d unload/reload branch(es) to the recording's unloading stiffness ratio "
+                        "%.3g; the DEM gives %.3g). %sthe %d branch(es) the calibration did not see",
+                        a.kOverK1, d.calibrationHolds, d.labMacro, a.macro, units, d.heldoutHolds);
+        without = "elastic contacts", with = "plastic ones";
+    } else if (d.mechanism == "stiffness_nonlinearity") {
+        os << scaled << "; the non-cohesive frictional material), once with linear elastic contacts and with Hertzian ones, "
+           << formatted("whose stiffness falls with the force: E* = %.4g Pa (of %zu values), calibrated on %d unload branch(es) "
+                        "to the recording's unloading curvature (tangent at the top over the secant to %.0f %% of the start "
+                        "stress: recording %.3g, Hertzian DEM %.3g, linear DEM %.3g). %sthe %d reload branch(es) the "
+                        "calibration did not see",
+                        a.hertzModulus, d.runs.size() - 1, d.calibrationHolds, 100 * d.ratioYMin, d.labMacro, a.macro,
+                        d.runs.front().macro, units, d.heldoutHolds);
+        without = "linear contacts", with = "Hertzian ones";
+    } else if (d.mechanism == "wall_friction" && d.calibration == "bottom_over_piston_secant") {
+        const std::string atMould = d.transmissionTarget > 0 && std::abs(d.transmissionTarget - d.labTransmission) > 1e-9 * d.labTransmission
+                                        ? formatted(", %.3g at the mould's H/D", d.transmissionTarget)
+                                        : "";
+        os << scaled << ")" << mould
+           << formatted(", calibrated so that the bottom plate carries the share of the piston stress the recording's bottom "
+                        "sensor shows on first loading (recording %.3g%s; DEM %.3g with friction, %.3g without; %zu runs with "
+                        "friction, secant on its logarithm). On the %d reload branch(es), compared in units of each branch's "
+                        "start stress and loading stiffness,",
+                        d.labTransmission, atMould.c_str(), a.transmission, d.runs.front().transmission, d.runs.size() - 1,
+                        d.heldoutHolds);
+        without = "frictionless walls", with = "wall friction";
+        if (d.heldoutBottomBaseline >= 0 && d.heldoutBottomAugmented >= 0)
+            extra = formatted("; the bottom stress on the same branches by %.4g Pa and %.4g Pa", d.heldoutBottomBaseline,
+                              d.heldoutBottomAugmented);
+    } else if (d.mechanism == "wall_friction") {
+        os << scaled << ")" << mould
+           << formatted(" (of %zu values around max(2 muK, %.2g) = %.3g, the one with the smallest error on %d unload "
+                        "branch(es)). %sthe %d branch(es) the choice did not see",
+                        d.runs.size() - 1, kMinWallFrictionGuess, d.runs.size() > 1 ? d.runs[1].wallFriction : 0.0,
+                        d.calibrationHolds, units, d.heldoutHolds);
+        without = "frictionless walls", with = "wall friction";
+    } else {
+        os << formatted(", once with the standard contact law and once with contact relaxation switched on (contact C = "
+                        "%.4g, t0 = %.4g s, calibrated on %d hold(s)). On the %d hold(s) the calibration did not see,",
+                        a.relaxC, a.relaxT0, d.calibrationHolds, d.heldoutHolds);
+        without = "relaxation", with = "it";
+    }
+    os << (branches ? " the DEM misses" : " the DEM hold curves miss") << " the recording by "
+       << formatted("%.4g Pa (RMS) %s %s and %.4g Pa with %s (%.1f %% %s)", d.heldoutBaseline, branches ? "with" : "without",
+                    without.c_str(), d.heldoutAugmented, with.c_str(), std::abs(change), change >= 0 ? "lower" : "higher")
+       << extra << ".";
+    if (d.mechanism == "wall_friction" && d.calibration != "bottom_over_piston_secant")
+        os << formatted(" Unloading ratio over the top %.0f %% of the unloads: recording %.3g, chosen run %.3g, frictionless %.3g.",
+                        100 * (1 - d.ratioYMin), d.labMacro, a.macro, d.runs.front().macro);
+    os << " Runs, commands and logs are in `dem/`.\n";
     return os.str();
 }
 
