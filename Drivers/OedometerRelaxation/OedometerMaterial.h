@@ -1,6 +1,7 @@
 // Material presets of the OedometerRelaxation driver: cocoa meso-particles with the chapter 5
 // parameters (thesis Table 5.3) and a non-cohesive frictional material.
 #pragma once
+#include <cmath>
 #include <string>
 
 #include "Contacts/ContactParameters.h"
@@ -45,6 +46,14 @@ inline OedometerMaterial oedometerMaterial(const std::string& name, double muWal
     m.pw.muR = 0;
     m.pw.kc = 0;  // walls are not sticky
     return m;
+}
+
+/// Multiplies the normal stiffnesses of c (k, k1, kc) by `scale` and the normal dashpot by
+/// sqrt(scale): the same restitution and stiffness ratios; the tangential, rolling and torsion parts
+/// are left as they are.
+inline void scaleNormalStiffness(ContactParameters& c, double scale) {
+    for (double* k : {&c.k, &c.k1, &c.kc}) *k *= scale;
+    c.gamma *= std::sqrt(scale);
 }
 
 } // namespace pdpm

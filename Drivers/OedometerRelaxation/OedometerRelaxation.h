@@ -41,6 +41,7 @@ public:
         p.add("k_over_k1", &kOverK1_, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
         p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
         p.add("hertz_modulus", &hertzModulus_, 0, "Pa", "Hertz contacts: effective Young's modulus E* of a Hertzian normal force in place of Luding's (0: Luding; needs --k_over_k1 1 --kc_over_k 0; the other parts of the law stay)", Range::nonNegative());
+        p.add("normal_stiffness_scale", &normalScale_, 1, "-", "multiplies the material's normal contact stiffnesses k, k1, kc (the normal dashpot by its square root: the same restitution); tangential, rolling, torsion springs stay", Range::positive());
         p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());
         p.add("pour_drag_time", &pourDragTime_, 0.1, "s", "drag time of the particles falling while filling (mass-proportional drag; terminal speed g x this)", Range::positive());
         p.add("dt_fraction", &dtFraction_, 25, "-", "time step = t_c / dt_fraction", Range::atLeast(10));
@@ -221,6 +222,7 @@ private:
     /// Material preset from the parameters (also after a restart).
     void loadMaterial() {
         mat_ = oedometerMaterial(material_, muWall_);
+        for (ContactParameters* c : {&mat_.pp, &mat_.pw}) scaleNormalStiffness(*c, normalScale_);
         if (kOverK1_ > 0) {
             if (kOverK1_ < 1) inputError("--k_over_k1: expected 0 (the material's value) or at least 1 (k1 <= k), got " + fmt(kOverK1_));
             mat_.pp.k1 = mat_.pw.k1 = mat_.pp.k / kOverK1_;
@@ -270,7 +272,7 @@ private:
 
     std::string geometry_, device_, material_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0;
-    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, fillMuWall_ = -1, hertzModulus_ = 0;
+    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, fillMuWall_ = -1, hertzModulus_ = 0, normalScale_ = 1;
     bool gravityOn_ = true;
     OedometerMaterial mat_;
     long mouldWall_ = -1;

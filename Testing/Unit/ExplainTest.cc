@@ -984,9 +984,14 @@ TEST(ExplainCommand, DemConfirmationNonlinearityCalibratesTheUnloadCurvature) {
     // E* of the first Hertzian run: its force equals the linear one at the overlap of the mean contact force
     const double delta = std::numbers::pi * kDemMeanDiameter * kDemMeanDiameter * 20e3 / (3 * kDemPackingPhiZ) / kDemContactStiffness;
     EXPECT_NEAR(4.0 / 3.0 * eMatch * std::sqrt(kDemMeanDiameter / 4 * delta) * delta, kDemContactStiffness * delta, 1e-9 * delta);
-    writeStandInScript(dir + "/driver.sh", "v_hertz_modulus=0\n", R"(echo "$v_hertz_modulus $v_stress_scale $v_material $v_k_over_k1 $v_kc_over_k $v_relax_C" >> "$v_output/calls.txt"
-awk -v h="$v_hertz_modulus" -v sc="$v_stress_scale" -v em0=")" + fmt(eMatch) + R"(" 'BEGIN {
-  m = h > 0 ? 1 + 0.4 * log(em0 / h) / log(10) : 1; E = 1e6 * sc; em = 0.02; n = 200
+    // the stand-in: m = 1 + 0.4 log10(E_match / E*) with --hertz_modulus E*; with linear contacts whose
+    // normal stiffness is scaled by s, m = 1 + soft 0.6 log10(1 / s) (soft = 1: the curvature follows
+    // the secant stiffness at the top stress, s = (E* / E_match)^(2/3), whatever the law; soft = 0: only
+    // Hertzian contacts curve the unloading)
+    const auto standIn = [&](const std::string& path, const std::string& soft) {
+        writeStandInScript(path, "v_hertz_modulus=0\nv_normal_stiffness_scale=1\n", R"(echo "$v_hertz_modulus $v_stress_scale $v_material $v_k_over_k1 $v_kc_over_k $v_relax_C $v_normal_stiffness_scale" >> "$v_output/calls.txt"
+awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_scale" -v em0=")" + fmt(eMatch) + R"(" 'BEGIN {
+  m = h > 0 ? 1 + 0.4 * log(em0 / h) / log(10) : 1 + )" + soft + R"( * 0.6 * log(1 / ns) / log(10); E = 1e6 * sc; em = 0.02; n = 200
   xh = em / 3; el = em - xh * (1 - 0.05 ^ (1 / m)); t = 0
   print "time_s,axial_strain,axial_stress_Pa"
   for (i = 0; i <= n; i++) { e = em * i / n; printf "%d,%.17g,%.17g\n", t++, e, E * e }
@@ -995,6 +1000,12 @@ awk -v h="$v_hertz_modulus" -v sc="$v_stress_scale" -v em0=")" + fmt(eMatch) + R
   for (i = 1; i <= n / 2; i++) { e = em * (1 + 0.5 * i / n); printf "%d,%.17g,%.17g\n", t++, e, E * e }
 }' > "$v_output/$v_name.recording.csv"
 )");
+    };
+    standIn(dir + "/driver.sh", "1");
+    // the control's stiffness: the secant stiffness of Hertz's force at the mean contact force, the
+    // inverse of hertzModulusMatching
+    EXPECT_NEAR(hertzSecantStiffness(eMatch, kDemMeanDiameter, 20e3), kDemContactStiffness, 1e-9 * kDemContactStiffness);
+    EXPECT_NEAR(hertzSecantStiffness(eMatch / 1000, kDemMeanDiameter, 20e3), 0.01 * kDemContactStiffness, 1e-9 * kDemContactStiffness);
     const Recording rec = curvedCycle(5e7, 0.008, 1.6, 40);
     const ExplainResult r = accepted(kNonlinearity, pExpN, 1.45);
     DemOptions opt;
@@ -1020,14 +1031,37 @@ awk -v h="$v_hertz_modulus" -v sc="$v_stress_scale" -v em0=")" + fmt(eMatch) + R
     EXPECT_GT(d.heldoutBaseline, 0.0);
     EXPECT_LT(d.heldoutAugmented, 0.1 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
     const std::string calls = readWholeFile(dir + "/dem/calls.txt");
-    EXPECT_EQ(calls.substr(0, calls.find('\n')), "0 0.04 frictional 1 0 0") << "linear, frictional material, elastic, no adhesion, no relaxation";
+    EXPECT_EQ(calls.substr(0, calls.find('\n')), "0 0.04 frictional 1 0 0 1") << "linear, frictional material, elastic, no adhesion, no relaxation";
+    // the control run: last, linear, at the chosen E*'s secant stiffness; the stand-in's curvature
+    // follows that stiffness, so the law is not distinguished
+    ASSERT_EQ(d.control, static_cast<int>(d.runs.size()) - 1);
+    const DemRun& ctl = d.runs.back();
+    EXPECT_EQ(ctl.hertzModulus, 0.0);
+    EXPECT_NEAR(ctl.normalStiffnessScale, std::pow(c.hertzModulus / eMatch, 2.0 / 3.0), 1e-9);
+    EXPECT_NEAR(ctl.macro, c.macro, 0.02) << "as curved as the chosen Hertzian run";
+    EXPECT_FALSE(d.contactLawDistinguished);
+    EXPECT_NE(calls.find(" " + fmt(ctl.normalStiffnessScale) + "\n"), std::string::npos) << calls;
     const Json j = demJson(d);
     EXPECT_EQ(j.at("calibration").asString(), "unload_curvature_secant");
     EXPECT_TRUE(j.has("heldout_branches"));
     EXPECT_NEAR(j.at("recording_unload_curvature_calibration_branches").asNumber(), d.labMacro, 1e-12);
     EXPECT_NEAR(j.at("runs").asArray("runs")[1].at("hertz_modulus_Pa").asNumber(), eMatch / 10, 1e-6 * eMatch);
+    EXPECT_EQ(j.at("control_run").asString(), "dem_linear_control");
+    EXPECT_FALSE(j.at("contact_law_distinguished").asBool());
     const std::string md = demMarkdown(d);
     EXPECT_NE(md.find("Hertzian"), std::string::npos) << md;
+    EXPECT_NE(md.find("does not tell Hertz's force law from a linear one"), std::string::npos) << md;
+    // a stand-in where only Hertzian contacts curve the unloading: the control stays straight, the law is distinguished
+    standIn(dir + "/driver_law.sh", "0");
+    DemOptions lawOpt = opt;
+    lawOpt.driver = dir + "/driver_law.sh";
+    std::filesystem::create_directories(dir + "/dem_law");
+    const DemResult law = confirmWithDem(r, rec, dir + "/p.json", lawOpt, dir + "/dem_law");
+    ASSERT_EQ(law.status, "done") << law.reason;
+    ASSERT_GE(law.control, 0);
+    EXPECT_NEAR(law.runs[static_cast<std::size_t>(law.control)].macro, 1.0, 0.01);
+    EXPECT_TRUE(law.contactLawDistinguished);
+    EXPECT_NE(demMarkdown(law).find("needs the Hertzian force law"), std::string::npos);
     const std::string cmp = readWholeFile(dir + "/dem/comparison.csv");
     EXPECT_EQ(cmp.substr(0, cmp.find(',', cmp.find("lab_stress_Pa"))), "item,role,axial_strain,lab_stress_Pa");
 
