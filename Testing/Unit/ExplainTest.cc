@@ -967,6 +967,47 @@ Recording curvedCycle(double E, double em, double m, int n, double yEnd = 0.05) 
 }
 } // namespace
 
+namespace {
+/// Two load-unload-reload cycles: load at stiffness E to stress s1, unload straight with tangent T1 to
+/// 10 % of it, reload the same way, load on to s2, unload with tangent T2, reload; n samples per branch.
+Recording twoLevelCycles(double E, double s1, double T1, double s2, double T2, int n = 40) {
+    Recording rec;
+    double e = 0, s = 0;
+    const auto leg = [&](double eTo, double sTo) {
+        const double e0 = e, s0 = s;
+        for (int i = 1; i <= n; ++i) {
+            e = e0 + (eTo - e0) * i / n, s = s0 + (sTo - s0) * i / n;
+            rec.strain.push_back(e), rec.stress.push_back(s);
+        }
+    };
+    rec.strain.push_back(0), rec.stress.push_back(0);
+    double eTop = s1 / E;
+    leg(eTop, s1);
+    leg(eTop - 0.9 * s1 / T1, 0.1 * s1);
+    leg(eTop, s1);
+    eTop += (s2 - s1) / E;
+    leg(eTop, s2);
+    leg(eTop - 0.9 * s2 / T2, 0.1 * s2);
+    leg(eTop, s2);
+    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
+    return rec;
+}
+} // namespace
+
+// The unloading stiffness's pressure exponent ln(T2/T1)/ln(s2/s1), which tells Hertzian contacts
+// (stiffer under more force) from linear ones as soft: exact on straight unloads, NaN with one unload
+// or with start stresses less than a factor 2 apart.
+TEST(ExplainCommand, UnloadStiffnessExponentComparesTheUnloadsOfTwoStressLevels) {
+    const Recording hertz = twoLevelCycles(1e6, 5e3, 4e6, 20e3, 4e6 * std::cbrt(4.0));
+    EXPECT_NEAR(unloadStiffnessExponent(hertz.t, hertz.strain, hertz.stress), 1.0 / 3.0, 1e-9);
+    const Recording linear = twoLevelCycles(1e6, 5e3, 4e6, 20e3, 4e6);
+    EXPECT_NEAR(unloadStiffnessExponent(linear.t, linear.strain, linear.stress), 0.0, 1e-9);
+    const Recording close = twoLevelCycles(1e6, 10e3, 4e6, 15e3, 5e6);
+    EXPECT_TRUE(std::isnan(unloadStiffnessExponent(close.t, close.strain, close.stress)));
+    const Recording one = curvedCycle(5e7, 0.008, 1.0, 40);
+    EXPECT_TRUE(std::isnan(unloadStiffnessExponent(one.t, one.strain, one.stress)));
+}
+
 // The stiffness_nonlinearity DEM confirmation against a stand-in driver whose record is curvedCycle
 // with m = 1 for linear contacts and m = 1 + 0.4 log10(E_match / E*) for --hertz_modulus E* (softer
 // contacts, more curved unloading), at another stiffness and stress scale than the lab's (m = 1.6):

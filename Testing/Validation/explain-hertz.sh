@@ -6,12 +6,16 @@
 # Hertz contacts (E* = 5e7 Pa, fill seeds 777, 778, 780; E* = 1.5e7 Pa, seed 779) and linear twins
 # (seeds 777, 778). pdpm-explain confirms stiffness_nonlinearity with the DEM where it accepts it
 # (`--dem fast --dem_mechanism stiffness_nonlinearity`; the confirmation's beds use the driver's
-# default seed, never a record's). One thread per run, two records side by side: about 14 min in all.
+# default seed, never a record's). One thread per run, two records side by side: about 14 min for the
+# one-level cases, 20 min for the two-level ones (HERTZ_CASES=one|two|all).
 # Prints one line per record; fails if a run fails, if a Hertz record's DEM confirmation is not done
 # or does not lower the held-out reload error or has no control run (linear contacts as soft as the
 # chosen Hertzian ones; whether they tell the law apart is reported, not gated), or if a linear twin
 # that the surrogate answers with stiffness_nonlinearity is not "contradicted" by the DEM.
 source "$(dirname "$0")/explain-common.sh"
+# one level: load 20 kPa - unload 1 kPa - reload 20 kPa; two levels (cases marked "2"): a first cycle
+# to 5 kPa (unload to 250 Pa) before it, so that the control run is judged by how the unloading
+# stiffness grows with the stress (DemConfirmation.h)
 cat > "$OUT/protocol.json" <<'JSON'
 {"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
  "device": {"name": "oedometer", "diameter_m": 0.015, "height_m": 0.015, "wall_friction": 0}, "material": {"name": "frictional"},
@@ -19,17 +23,32 @@ cat > "$OUT/protocol.json" <<'JSON'
            {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 1000},
            {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 20000}]}
 JSON
-one() {  # seed modulus (0: linear contacts)
-  local name="s$1_E$2" hertz=()
+cat > "$OUT/protocol2.json" <<'JSON'
+{"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.015, "height_m": 0.015, "wall_friction": 0}, "material": {"name": "frictional"},
+ "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 5000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 250},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 20000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 1000},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 20000}]}
+JSON
+one() {  # seed modulus (0: linear contacts) [2: two levels]
+  local name="s$1_E$2" hertz=() proto="$OUT/protocol.json"
   [ "$2" != 0 ] && hertz=(--hertz_modulus "$2")
-  "$BIN/OedometerRelaxation" --protocol_file "$OUT/protocol.json" --material frictional --width 10 --fill_height 10 --seed "$1" \
+  [ "${3:-}" = 2 ] && name="${name}_2" proto="$OUT/protocol2.json"
+  "$BIN/OedometerRelaxation" --protocol_file "$proto" --material frictional --width 10 --fill_height 10 --seed "$1" \
     --relax_C 0 --kc_over_k 0 --k_over_k1 1 ${hertz[@]+"${hertz[@]}"} --output "$OUT/records" --name "$name" --quiet --vtk 0 --ene 0 --threads 1 \
     > "$OUT/records-$name.log" 2>&1
   OMP_NUM_THREADS=1 "$BIN/pdpm-explain" --recording "$OUT/records/$name.recording.csv" --protocol "$OUT/records/$name.protocol.json" \
     --output "$OUT/$name" --dem fast --dem_threads 1 --dem_mechanism stiffness_nonlinearity --no_figures 1 > "$OUT/$name.log" 2>&1
 }
-pairs=("777 5e7" "777 0" "778 5e7" "778 0" "779 1.5e7" "780 5e7")
+# HERTZ_CASES: "one", "two" or "all" (default)
+cases=${HERTZ_CASES:-all}
+pairs=()
+[ "$cases" != two ] && pairs+=("777 5e7" "777 0" "778 5e7" "778 0" "779 1.5e7" "780 5e7")
+[ "$cases" != one ] && pairs+=("777 5e7 2" "778 5e7 2" "780 5e7 2" "778 0 2")
 failed=0
+names=()
 for ((i = 0; i < ${#pairs[@]}; i += 2)); do
   one ${pairs[i]} & a=$!
   one ${pairs[i + 1]} & b=$!
@@ -37,12 +56,16 @@ for ((i = 0; i < ${#pairs[@]}; i += 2)); do
   wait $b || { echo "record or explanation failed: ${pairs[i + 1]} (logs in $OUT)"; failed=1; }
 done
 [ "$failed" = 0 ] || exit 1
-python3 - "$OUT" s777_E5e7 s777_E0 s778_E5e7 s778_E0 s779_E1.5e7 s780_E5e7 <<'PY'
+for p in "${pairs[@]}"; do
+  set -- $p
+  names+=("s$1_E$2${3:+_$3}")
+done
+python3 - "$OUT" "${names[@]}" <<'PY'
 import json, sys
 out, bad = sys.argv[1], 0
 for name in sys.argv[2:]:
     r = json.load(open(f"{out}/{name}/report.json"))
-    hertz = not name.endswith('_E0')
+    hertz = '_E0' not in name
     names = [m['name'] for m in r['mechanisms']]
     line = f"{name}: {r['verdict']}: {names}"
     d = r['dem_confirmation']
@@ -61,7 +84,12 @@ for name in sys.argv[2:]:
             if ctl:  # reported, not gated: linear contacts as soft as the chosen ones (DemConfirmation.h)
                 line += (f"; control linear x{ctl['normal_stiffness_scale']:.3g}: curvature "
                          f"{ctl['dem_unload_curvature_calibration_branches']:.3f}, held-out {ctl['heldout_rmse_Pa']:.4g} Pa, "
-                         f"law distinguished: {d['contact_law_distinguished']}")
+                         f"law distinguished: {d['contact_law_distinguished']} (by {d['contact_law_judged_by']}")
+                if 'recording_unload_stiffness_exponent' in d:
+                    line += (f": recording {d['recording_unload_stiffness_exponent']:.3f}, Hertz "
+                             f"{ch.get('dem_unload_stiffness_exponent', float('nan')):.3f}, control "
+                             f"{ctl.get('dem_unload_stiffness_exponent', float('nan')):.3f}")
+                line += ")"
             else:
                 bad += 1
                 line += "; no control run"

@@ -716,6 +716,29 @@ double unloadCurvature(const std::vector<Branch>& b, const std::vector<std::size
     return n > 0 ? sum / n : -1;
 }
 
+/// Pressure exponent of the unloading stiffness: ln(T_hi / T_lo) / ln(S_hi / S_lo) between the unload
+/// branches with the highest and the lowest start stress S, T the tangent dsigma/deps at the top
+/// (least squares over the samples with y >= 0.8); NaN unless S_hi >= kExponentStressRatio S_lo.
+/// Hertzian contacts stiffen with the force (1/3 for a fixed contact network), linear ones do not.
+double unloadStiffnessExponent(const std::vector<Branch>& b) {
+    const Branch *lo = nullptr, *hi = nullptr;
+    for (const Branch& br : b) {
+        if (br.phase != Phase::Unload || br.s.empty()) continue;
+        if (!lo || br.s.front() < lo->s.front()) lo = &br;
+        if (!hi || br.s.front() > hi->s.front()) hi = &br;
+    }
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    if (!lo || !hi || !(hi->s.front() >= kExponentStressRatio * lo->s.front()) || !(lo->s.front() > 0)) return nan;
+    const auto tangent = [](const Branch& br) {
+        std::size_t top = 0;
+        while (top < br.y.size() && br.y[top] >= 0.8) ++top;
+        return top >= 3 ? slope(br.e, br.s, 0, top) : nan;
+    };
+    const double tLo = tangent(*lo), tHi = tangent(*hi);
+    if (!(tLo > 0) || !(tHi > 0)) return nan;
+    return std::log(tHi / tLo) / std::log(hi->s.front() / lo->s.front());
+}
+
 /// stiffness_nonlinearity: linear against Hertzian contacts, E* calibrated on the unloading's
 /// curvature, scored on the reloads (DemConfirmation.h).
 DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, const Recording& rec, const std::string& protocolPath) {
@@ -822,7 +845,15 @@ DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, co
     if (!runDem("dem_linear_control", 0, scale)) return mismatch("dem_linear_control");
     d.control = static_cast<int>(all.size() - 1);
     score(all.size() - 1);
-    d.contactLawDistinguished = std::abs(curv.back() - d.labMacro) > std::abs(curv[chosen] - d.labMacro) + kCurvatureMargin;
+    // the judge: the unloading stiffness's pressure exponent where the recording unloads from two
+    // stress levels, else the curvature (which hardly tells the law)
+    d.labExponent = unloadStiffnessExponent(lab);
+    for (std::size_t q = 0; q < all.size(); ++q) d.runs[q].exponent = unloadStiffnessExponent(all[q]);
+    if (std::isfinite(d.labExponent) && std::isfinite(d.runs[chosen].exponent) && std::isfinite(d.runs.back().exponent))
+        d.contactLawDistinguished = std::abs(d.runs.back().exponent - d.labExponent) >
+                                    std::abs(d.runs[chosen].exponent - d.labExponent) + kExponentMargin;
+    else
+        d.contactLawDistinguished = std::abs(curv.back() - d.labMacro) > std::abs(curv[chosen] - d.labMacro) + kCurvatureMargin;
     d.heldoutBaseline = d.runs[0].heldoutRmse;
     d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
     d.status = "done";
@@ -840,6 +871,10 @@ double meanContactForce(double d, double stress) { return std::numbers::pi * d *
 double hertzModulusMatching(double k, double d, double stress) {
     const double delta = meanContactForce(d, stress) / k;  // the linear law's overlap
     return 3 * k / (4 * std::sqrt(0.25 * d * delta));      // (4/3) E* sqrt(R delta) delta = k delta, R = d/4
+}
+
+double unloadStiffnessExponent(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s) {
+    return unloadStiffnessExponent(cycleBranches(t, e, s));
 }
 
 double hertzSecantStiffness(double modulus, double d, double stress) {
@@ -972,6 +1007,8 @@ Json demJson(const DemResult& d) {
             if (d.control >= 0) {
                 j.set("control_run", d.runs[static_cast<std::size_t>(d.control)].name);
                 j.set("contact_law_distinguished", d.contactLawDistinguished);
+                j.set("contact_law_judged_by", std::isfinite(d.labExponent) ? "unload_stiffness_exponent" : "unload_curvature");
+                if (std::isfinite(d.labExponent)) j.set("recording_unload_stiffness_exponent", d.labExponent);
             }
         }
         if (wall) {
@@ -997,6 +1034,7 @@ Json demJson(const DemResult& d) {
         if (hertz) {
             o.set("hertz_modulus_Pa", r.hertzModulus);
             o.set("normal_stiffness_scale", r.normalStiffnessScale);
+            if (std::isfinite(r.exponent)) o.set("dem_unload_stiffness_exponent", r.exponent);
             o.set("dem_unload_curvature_calibration_branches", num(r.macro));
         } else if (branches) {
             if (plastic) o.set("k_over_k1", r.kOverK1);
@@ -1101,14 +1139,24 @@ std::string demMarkdown(const DemResult& d) {
                         100 * (1 - d.ratioYMin), d.labMacro, a.macro, d.runs.front().macro);
     if (d.control >= 0) {
         const DemRun& c = d.runs[static_cast<std::size_t>(d.control)];
+        const bool byExponent = std::isfinite(d.labExponent);
         os << formatted(" A control run with linear contacts as soft as the chosen Hertzian ones at the top stress (normal "
-                        "stiffness x %.3g) unloads with curvature %.3g (held-out %.4g Pa): ",
-                        c.normalStiffnessScale, c.macro, c.heldoutRmse)
+                        "stiffness x %.3g) unloads with curvature %.3g (held-out %.4g Pa)",
+                        c.normalStiffnessScale, c.macro, c.heldoutRmse);
+        if (byExponent)
+            os << formatted("; the unloading stiffness grows with the stress it unloads from as stress^%.2f in the recording, "
+                            "^%.2f with the Hertzian contacts and ^%.2f with the linear control",
+                            d.labExponent, d.runs[static_cast<std::size_t>(d.chosen)].exponent, c.exponent);
+        os << ": "
            << (d.contactLawDistinguished
-                   ? "clearly further from the recording's, so the curvature needs the Hertzian force law."
-                   : "about as close to the recording's, so the record shows contacts that are soft under the load; it does "
-                     "not tell Hertz's force law from a linear one that soft (the bulk nonlinearity is confirmed, the contact "
-                     "law is not).");
+                   ? (byExponent ? "the control is clearly further from the recording, so the record needs the Hertzian force law."
+                                 : "clearly further from the recording's, so the curvature needs the Hertzian force law.")
+                   : (byExponent ? "the control is about as close to the recording, so the record does not tell Hertz's force law "
+                                   "from a linear one that soft (the bulk nonlinearity is confirmed, the contact law is not)."
+                                 : "about as close to the recording's, so the record shows contacts that are soft under the load; "
+                                   "it does not tell Hertz's force law from a linear one that soft (the bulk nonlinearity is "
+                                   "confirmed, the contact law is not; unloads from two stress levels at least a factor 2 "
+                                   "apart would judge it by how the unloading stiffness grows with the stress)."));
     }
     os << " Runs, commands and logs are in `dem/`.\n";
     return os.str();

@@ -59,6 +59,7 @@
 // accepted mechanism has a DEM counterpart that can run (wall_friction without the device's size
 // cannot), or when DemOptions::mechanism names it.
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,10 @@ inline constexpr double kCurvatureMargin = 0.1;
 /// of its start stress, or just above the lowest stress of the recording's unloads when they stop
 /// higher, but not above kCurvatureMaxLowY (then: not_run).
 inline constexpr double kCurvatureLowY = 0.2, kCurvatureMaxLowY = 0.6;
+/// stiffness_nonlinearity: the unloading stiffness's pressure exponent needs unloads whose start
+/// stresses differ by at least this factor; the control run tells the law apart where its exponent
+/// misses the recording's by kExponentMargin more than the chosen Hertzian run's.
+inline constexpr double kExponentStressRatio = 2, kExponentMargin = 0.1;
 /// stiffness_nonlinearity, fast mode: a laterally periodic bed of about 940 particles (the driver's
 /// default 180-particle bed is dominated by collapses).
 inline constexpr const char* kNonlinearityFastBed = "--width 10 --fill_height 10";
@@ -115,6 +120,11 @@ double hertzModulusMatching(double k, double d, double stress);
 /// Secant stiffness f / delta (N/m) of Hertz's force (4/3) E* sqrt(R delta) delta, R = d/4, at the mean
 /// contact force f = pi d^2 stress / (3 phi Z) (the inverse of hertzModulusMatching).
 double hertzSecantStiffness(double modulus, double d, double stress);
+/// Pressure exponent of the unloading stiffness of a record (time, strain, stress): ln(T_hi/T_lo) /
+/// ln(S_hi/S_lo) between its unloads with the highest and lowest start stress S (T: the tangent
+/// dsigma/deps over the unload's top 20 % of stress); NaN with fewer than two unloads or S_hi below
+/// kExponentStressRatio S_lo. About 1/3 for Hertzian contacts on a fixed network, 0 for linear ones.
+double unloadStiffnessExponent(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s);
 struct DemRun {
     std::string name;
     double relaxC = 0, relaxT0 = 0;  ///< contact_relaxation runs
@@ -122,6 +132,8 @@ struct DemRun {
     double wallFriction = 0;         ///< wall_friction runs (mu_w)
     double hertzModulus = 0;         ///< stiffness_nonlinearity runs (E*, Pa; 0: linear contacts)
     double normalStiffnessScale = 1; ///< stiffness_nonlinearity's control run: its linear k over the material's
+    /// stiffness_nonlinearity: the unloading stiffness's pressure exponent (NaN: fewer than two unloads far enough apart)
+    double exponent = std::numeric_limits<double>::quiet_NaN();
     /// bottom/piston stress ratio of the first loading (-1: no bottom stress recorded)
     double transmission = -1;
     double calibrationRmse = -1, heldoutRmse = -1;  ///< Pa
@@ -147,6 +159,8 @@ struct DemResult {
     /// under the load, not their force law)
     int control = -1;
     bool contactLawDistinguished = false;
+    /// stiffness_nonlinearity: the recording's unloading stiffness exponent (NaN: the curvature judges the control)
+    double labExponent = std::numeric_limits<double>::quiet_NaN();
     int calibrationHolds = 0, heldoutHolds = 0;  ///< holds (contact_relaxation) or unload/reload branches (the others)
     double stressScale = 1;   ///< plasticity, wall_friction: factor applied to the protocol's stresses
     /// plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches);
