@@ -238,6 +238,8 @@ private:
             if (parameters().wasSetOnCommandLine("contact_law") && parameters().get("contact_law") != "hertz-rolling-relax")
                 inputError("--hertz_modulus: it sets the contact law hertz-rolling-relax; leave out --contact_law " +
                            parameters().get("contact_law"));
+            if (normalScale_ != 1)
+                inputError("--normal_stiffness_scale: it scales the linear normal force, which --hertz_modulus replaces (set E* instead)");
             if (mat_.pp.k1 != mat_.pp.k || mat_.pp.kc != 0)
                 inputError("--hertz_modulus: Hertz contacts are elastic and non-adhesive, the " + material_ +
                            " material is not: give --k_over_k1 1 --kc_over_k 0 with it");

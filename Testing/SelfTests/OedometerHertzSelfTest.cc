@@ -17,7 +17,7 @@
 //  4. --normal_stiffness_scale 0.0728 (the secant stiffness of Hertz at E* = 1e7 Pa and 20 kPa, as in
 //     pdpm-explain's control run) scales k in the protocol file, and that bed is compressed further;
 //     its unloading curvature is printed, not checked;
-//  5. --hertz_modulus without --k_over_k1 1 --kc_over_k 0 is refused (exit 2).
+//  5. --hertz_modulus without --k_over_k1 1 --kc_over_k 0, or with --normal_stiffness_scale, is refused (exit 2).
 #include <algorithm>
 #include <cmath>
 
@@ -126,6 +126,12 @@ int main() {
     {
         OedometerRelaxation d;
         ok &= check(oedometer_selftest::runDriver(d, {"--hertz_modulus", "1e8", "--quiet"}) == 2, "Hertz with the plastic cocoa preset refused");
+    }
+    {
+        OedometerRelaxation d;
+        ok &= check(oedometer_selftest::runDriver(d, {"--hertz_modulus", "1e8", "--material", "frictional", "--normal_stiffness_scale", "0.5",
+                                                      "--quiet"}) == 2,
+                    "Hertz with --normal_stiffness_scale refused");
     }
     return ok ? 0 : 1;
 }

@@ -1008,6 +1008,95 @@ TEST(ExplainCommand, UnloadStiffnessExponentComparesTheUnloadsOfTwoStressLevels)
     EXPECT_TRUE(std::isnan(unloadStiffnessExponent(one.t, one.strain, one.stress)));
 }
 
+namespace {
+/// Two cycles: load at stiffness E to s1, unload along s = s_top (1 - (e_top - e)/x_h)^m (top tangent
+/// T1, down to 5 % of s1), reload the same way, load on to s2, the same unload with top tangent
+/// T1 (s2/s1)^x, reload; n samples per branch. The awk twin is in the test below.
+Recording curvedTwoLevels(double E, double s1, double s2, double T1, double x, double m, int n = 40) {
+    Recording rec;
+    double e = 0, s = 0;
+    const auto push = [&] { rec.strain.push_back(e), rec.stress.push_back(s); };
+    push();
+    const auto load = [&](double sTo) {
+        const double e0 = e, s0 = s, eTo = e0 + (sTo - s0) / E;
+        for (int i = 1; i <= n; ++i) e = e0 + (eTo - e0) * i / n, s = s0 + (sTo - s0) * i / n, push();
+    };
+    const auto cycle = [&](double T) {
+        const double eTop = e, sTop = s, xh = sTop * m / T, eLow = eTop - xh * (1 - std::pow(0.05, 1 / m));
+        for (int i = 1; i <= n; ++i) e = eTop - (eTop - eLow) * i / n, s = sTop * std::pow(1 - (eTop - e) / xh, m), push();
+        for (int i = 1; i <= n; ++i) e = eLow + (eTop - eLow) * i / n, s = sTop * std::pow(1 - (eTop - e) / xh, m), push();
+    };
+    load(s1);
+    cycle(T1);
+    load(s2);
+    cycle(T1 * std::pow(s2 / s1, x));
+    for (std::size_t i = 0; i < rec.strain.size(); ++i) rec.t.push_back(static_cast<double>(i));
+    return rec;
+}
+} // namespace
+
+// The control run of the stiffness_nonlinearity confirmation judged by the unloading stiffness's
+// pressure exponent, on a two-level record (exponent 0.58, curvature 1.6) against stand-ins whose
+// Hertzian runs have exponent 0.6 and curvature 1 + 0.4 log10(E_match/E*), the linear bed 0.4 and 1,
+// and the linear control the curvature of its softness and exponent X: X = 0.35 tells the law apart,
+// X = 0.6 does not.
+TEST(ExplainCommand, DemConfirmationNonlinearityJudgesTheLawByTheStiffnessExponent) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
+ "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 100000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 5000},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
+           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 20000},
+           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000}]})");
+    const double eMatch = hertzModulusMatching(kDemContactStiffness, kDemMeanDiameter, 20e3);
+    const auto standIn = [&](const std::string& path, double xControl) {
+        writeStandInScript(path, "v_hertz_modulus=0\nv_normal_stiffness_scale=1\n", R"(awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_scale" -v em0=")" +
+                                                                                       fmt(eMatch) + R"(" -v xc=")" + fmt(xControl) + R"(" '
+function row() { printf "%d,%.17g,%.17g\n", t++, e, s }
+function load(sTo,   e0, s0, eTo, i) { e0 = e; s0 = s; eTo = e0 + (sTo - s0) / E; for (i = 1; i <= n; i++) { e = e0 + (eTo - e0) * i / n; s = s0 + (sTo - s0) * i / n; row() } }
+function cycle(T,   eTop, sTop, xh, eLow, i) {
+  eTop = e; sTop = s; xh = sTop * m / T; eLow = eTop - xh * (1 - 0.05 ^ (1 / m))
+  for (i = 1; i <= n; i++) { e = eTop - (eTop - eLow) * i / n; s = sTop * (1 - (eTop - e) / xh) ^ m; row() }
+  for (i = 1; i <= n; i++) { e = eLow + (eTop - eLow) * i / n; s = sTop * (1 - (eTop - e) / xh) ^ m; row() }
+}
+BEGIN {
+  if (h > 0) { m = 1 + 0.4 * log(em0 / h) / log(10); x = 0.6 } else if (ns != 1) { m = 1 + 0.6 * log(1 / ns) / log(10); x = xc } else { m = 1; x = 0.4 }
+  E = 1e6 * sc; n = 40; e = 0; s = 0; t = 0
+  print "time_s,axial_strain,axial_stress_Pa"
+  row(); load(100e3 * sc); cycle(3 * E); load(400e3 * sc); cycle(3 * E * 4 ^ x)
+}' > "$v_output/$v_name.recording.csv"
+)");
+    };
+    const Recording rec = curvedTwoLevels(5e7, 100e3, 400e3, 1.5e8, 0.58, 1.6);
+    EXPECT_NEAR(unloadStiffnessExponent(rec.t, rec.strain, rec.stress), 0.58, 1e-9);
+    const ExplainResult r = accepted(kNonlinearity, pExpN, 1.45);
+    for (const double xControl : {0.35, 0.6}) {
+        const std::string name = xControl < 0.5 ? "told" : "not_told";
+        standIn(dir + "/" + name + ".sh", xControl);
+        DemOptions opt;
+        opt.driver = dir + "/" + name + ".sh";
+        std::filesystem::create_directories(dir + "/" + name);
+        const DemResult d = confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/" + name);
+        ASSERT_EQ(d.status, "done") << d.reason;
+        EXPECT_EQ(d.calibrationHolds, 2);
+        ASSERT_EQ(d.control, static_cast<int>(d.runs.size()) - 1);
+        EXPECT_TRUE(d.judgedByExponent);
+        EXPECT_NEAR(d.labExponent, 0.58, 1e-9);
+        EXPECT_NEAR(d.runs[static_cast<std::size_t>(d.chosen)].exponent, 0.6, 1e-9);
+        EXPECT_NEAR(d.runs.front().exponent, 0.4, 1e-9);
+        EXPECT_NEAR(d.runs.back().exponent, xControl, 1e-9);
+        EXPECT_EQ(d.contactLawDistinguished, xControl < 0.5) << name;
+        const Json j = demJson(d);
+        EXPECT_EQ(j.at("contact_law_judged_by").asString(), "unload_stiffness_exponent");
+        EXPECT_NEAR(j.at("recording_unload_stiffness_exponent").asNumber(), 0.58, 1e-9);
+        EXPECT_NE(demMarkdown(d).find(xControl < 0.5 ? "needs the Hertzian force law" : "does not tell Hertz's force law"), std::string::npos)
+            << demMarkdown(d);
+        EXPECT_NE(demMarkdown(d).find("as stress^0.58 in the recording"), std::string::npos) << demMarkdown(d);
+    }
+}
+
 // The stiffness_nonlinearity DEM confirmation against a stand-in driver whose record is curvedCycle
 // with m = 1 for linear contacts and m = 1 + 0.4 log10(E_match / E*) for --hertz_modulus E* (softer
 // contacts, more curved unloading), at another stiffness and stress scale than the lab's (m = 1.6):

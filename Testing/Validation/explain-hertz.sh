@@ -7,7 +7,7 @@
 # (seeds 777, 778). pdpm-explain confirms stiffness_nonlinearity with the DEM where it accepts it
 # (`--dem fast --dem_mechanism stiffness_nonlinearity`; the confirmation's beds use the driver's
 # default seed, never a record's). One thread per run, two records side by side: about 14 min for the
-# one-level cases, 20 min for the two-level ones (HERTZ_CASES=one|two|all).
+# one-level cases, 13 min for the two-level ones (HERTZ_CASES=one|two|all).
 # Prints one line per record; fails if a run fails, if a Hertz record's DEM confirmation is not done
 # or does not lower the held-out reload error or has no control run (linear contacts as soft as the
 # chosen Hertzian ones; whether they tell the law apart is reported, not gated), or if a linear twin
@@ -44,9 +44,11 @@ one() {  # seed modulus (0: linear contacts) [2: two levels]
 }
 # HERTZ_CASES: "one", "two" or "all" (default)
 cases=${HERTZ_CASES:-all}
+case "$cases" in one|two|all) ;; *) echo "HERTZ_CASES: expected one, two or all, got '$cases'" >&2; exit 2;; esac
 pairs=()
 [ "$cases" != two ] && pairs+=("777 5e7" "777 0" "778 5e7" "778 0" "779 1.5e7" "780 5e7")
 [ "$cases" != one ] && pairs+=("777 5e7 2" "778 5e7 2" "780 5e7 2" "778 0 2")
+(( ${#pairs[@]} % 2 == 0 )) || { echo "explain-hertz.sh: the cases run two at a time; give an even number" >&2; exit 2; }
 failed=0
 names=()
 for ((i = 0; i < ${#pairs[@]}; i += 2)); do

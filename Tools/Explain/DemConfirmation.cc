@@ -724,11 +724,11 @@ double unloadStiffnessExponent(const std::vector<Branch>& b) {
     const Branch *lo = nullptr, *hi = nullptr;
     for (const Branch& br : b) {
         if (br.phase != Phase::Unload || br.s.empty()) continue;
-        if (!lo || br.s.front() < lo->s.front()) lo = &br;
-        if (!hi || br.s.front() > hi->s.front()) hi = &br;
+        if (!lo || br.sRef < lo->sRef) lo = &br;
+        if (!hi || br.sRef > hi->sRef) hi = &br;
     }
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-    if (!lo || !hi || !(hi->s.front() >= kExponentStressRatio * lo->s.front()) || !(lo->s.front() > 0)) return nan;
+    if (!lo || !hi || !(hi->sRef >= kExponentStressRatio * lo->sRef) || !(lo->sRef > 0)) return nan;
     const auto tangent = [](const Branch& br) {
         std::size_t top = 0;
         while (top < br.y.size() && br.y[top] >= 0.8) ++top;
@@ -736,7 +736,7 @@ double unloadStiffnessExponent(const std::vector<Branch>& b) {
     };
     const double tLo = tangent(*lo), tHi = tangent(*hi);
     if (!(tLo > 0) || !(tHi > 0)) return nan;
-    return std::log(tHi / tLo) / std::log(hi->s.front() / lo->s.front());
+    return std::log(tHi / tLo) / std::log(hi->sRef / lo->sRef);
 }
 
 /// stiffness_nonlinearity: linear against Hertzian contacts, E* calibrated on the unloading's
@@ -842,18 +842,25 @@ DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, co
     const std::size_t chosen = static_cast<std::size_t>(d.chosen);
     const double scale = hertzSecantStiffness(d.runs[chosen].hertzModulus, kDemMeanDiameter, maxTarget * d.stressScale) /
                          kDemContactStiffness;
-    if (!runDem("dem_linear_control", 0, scale)) return mismatch("dem_linear_control");
-    d.control = static_cast<int>(all.size() - 1);
-    score(all.size() - 1);
-    // the judge: the unloading stiffness's pressure exponent where the recording unloads from two
-    // stress levels, else the curvature (which hardly tells the law)
-    d.labExponent = unloadStiffnessExponent(lab);
-    for (std::size_t q = 0; q < all.size(); ++q) d.runs[q].exponent = unloadStiffnessExponent(all[q]);
-    if (std::isfinite(d.labExponent) && std::isfinite(d.runs[chosen].exponent) && std::isfinite(d.runs.back().exponent))
-        d.contactLawDistinguished = std::abs(d.runs.back().exponent - d.labExponent) >
-                                    std::abs(d.runs[chosen].exponent - d.labExponent) + kExponentMargin;
-    else
-        d.contactLawDistinguished = std::abs(curv.back() - d.labMacro) > std::abs(curv[chosen] - d.labMacro) + kCurvatureMargin;
+    if (runDem("dem_linear_control", 0, scale)) {
+        d.control = static_cast<int>(all.size() - 1);
+        score(all.size() - 1);
+        // the judge: the unloading stiffness's pressure exponent where the recording unloads from two
+        // stress levels, else the curvature (which hardly tells the law)
+        const double labExponent = unloadStiffnessExponent(lab);
+        for (std::size_t q = 0; q < all.size(); ++q) d.runs[q].exponent = unloadStiffnessExponent(all[q]);
+        d.judgedByExponent = std::isfinite(labExponent) && std::isfinite(d.runs[chosen].exponent) && std::isfinite(d.runs.back().exponent);
+        if (std::isfinite(labExponent)) d.labExponent = labExponent;
+        d.contactLawDistinguished =
+            d.judgedByExponent
+                ? std::abs(d.runs.back().exponent - labExponent) > std::abs(d.runs[chosen].exponent - labExponent) + kExponentMargin
+                : std::abs(curv.back() - d.labMacro) > std::abs(curv[chosen] - d.labMacro) + kCurvatureMargin;
+    } else {  // the control only qualifies the result: without it the law is not judged
+        d.controlNote = "the control run dem_linear_control failed or does not pair with the recording (log: dem_linear_control.log)";
+        d.runs.pop_back();
+        all.pop_back();
+        curv.pop_back();
+    }
     d.heldoutBaseline = d.runs[0].heldoutRmse;
     d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
     d.status = "done";
@@ -1007,9 +1014,11 @@ Json demJson(const DemResult& d) {
             if (d.control >= 0) {
                 j.set("control_run", d.runs[static_cast<std::size_t>(d.control)].name);
                 j.set("contact_law_distinguished", d.contactLawDistinguished);
-                j.set("contact_law_judged_by", std::isfinite(d.labExponent) ? "unload_stiffness_exponent" : "unload_curvature");
-                if (std::isfinite(d.labExponent)) j.set("recording_unload_stiffness_exponent", d.labExponent);
+                j.set("contact_law_judged_by", d.judgedByExponent ? "unload_stiffness_exponent" : "unload_curvature");
+            } else if (!d.controlNote.empty()) {
+                j.set("control_note", d.controlNote);
             }
+            if (std::isfinite(d.labExponent)) j.set("recording_unload_stiffness_exponent", d.labExponent);
         }
         if (wall) {
             j.set("mould_diameter_m", d.mouldDiameter);
@@ -1059,12 +1068,16 @@ Json demJson(const DemResult& d) {
 namespace {
 /// printf into a string.
 __attribute__((format(printf, 1, 2))) std::string formatted(const char* format, ...) {
-    char buf[1500];
-    va_list args;
+    va_list args, again;
     va_start(args, format);
-    std::vsnprintf(buf, sizeof buf, format, args);
+    va_copy(again, args);
+    const int n = std::vsnprintf(nullptr, 0, format, args);
     va_end(args);
-    return buf;
+    std::string out(static_cast<std::size_t>(std::max(n, 0)) + 1, '\0');
+    std::vsnprintf(out.data(), out.size(), format, again);
+    va_end(again);
+    out.pop_back();
+    return out;
 }
 } // namespace
 
@@ -1081,9 +1094,11 @@ std::string demMarkdown(const DemResult& d) {
     const double change = d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0;
     const bool branches = d.mechanism != "contact_relaxation";
     const std::string scaled = formatted(" (stresses scaled by %.4g into the material's range", d.stressScale);
-    const std::string mould = formatted(" in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), every "
-                                        "bed poured with frictionless walls, once with frictionless walls and with wall friction mu_w = %.4g",
-                                        d.mouldDiameter, d.mouldHeight, d.mouldHeight / d.mouldDiameter, d.recordingAspect, a.wallFriction);
+    const auto mould = [&] {
+        return formatted(" in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), every bed poured "
+                         "with frictionless walls, once with frictionless walls and with wall friction mu_w = %.4g",
+                         d.mouldDiameter, d.mouldHeight, d.mouldHeight / d.mouldDiameter, d.recordingAspect, a.wallFriction);
+    };
     const char* units = "Compared in units of each branch's start stress and loading stiffness, on ";
     os << "The OedometerRelaxation driver was re-run on this protocol";
     std::string without, with, extra;  // the two runs in the ending, and what follows their errors
@@ -1106,7 +1121,7 @@ std::string demMarkdown(const DemResult& d) {
         const std::string atMould = d.transmissionTarget > 0 && std::abs(d.transmissionTarget - d.labTransmission) > 1e-9 * d.labTransmission
                                         ? formatted(", %.3g at the mould's H/D", d.transmissionTarget)
                                         : "";
-        os << scaled << ")" << mould
+        os << scaled << ")" << mould()
            << formatted(", calibrated so that the bottom plate carries the share of the piston stress the recording's bottom "
                         "sensor shows on first loading (recording %.3g%s; DEM %.3g with friction, %.3g without; %zu runs with "
                         "friction, secant on its logarithm). On the %d reload branch(es), compared in units of each branch's "
@@ -1118,7 +1133,7 @@ std::string demMarkdown(const DemResult& d) {
             extra = formatted("; the bottom stress on the same branches by %.4g Pa and %.4g Pa", d.heldoutBottomBaseline,
                               d.heldoutBottomAugmented);
     } else if (d.mechanism == "wall_friction") {
-        os << scaled << ")" << mould
+        os << scaled << ")" << mould()
            << formatted(" (of %zu values around max(2 muK, %.2g) = %.3g, the one with the smallest error on %d unload "
                         "branch(es)). %sthe %d branch(es) the choice did not see",
                         d.runs.size() - 1, kMinWallFrictionGuess, d.runs.size() > 1 ? d.runs[1].wallFriction : 0.0,
@@ -1137,9 +1152,10 @@ std::string demMarkdown(const DemResult& d) {
     if (d.mechanism == "wall_friction" && d.calibration != "bottom_over_piston_secant")
         os << formatted(" Unloading ratio over the top %.0f %% of the unloads: recording %.3g, chosen run %.3g, frictionless %.3g.",
                         100 * (1 - d.ratioYMin), d.labMacro, a.macro, d.runs.front().macro);
+    if (!d.controlNote.empty()) os << " The contact law was not judged: " << d.controlNote << ".";
     if (d.control >= 0) {
         const DemRun& c = d.runs[static_cast<std::size_t>(d.control)];
-        const bool byExponent = std::isfinite(d.labExponent);
+        const bool byExponent = d.judgedByExponent;
         os << formatted(" A control run with linear contacts as soft as the chosen Hertzian ones at the top stress (normal "
                         "stiffness x %.3g) unloads with curvature %.3g (held-out %.4g Pa)",
                         c.normalStiffnessScale, c.macro, c.heldoutRmse);
@@ -1147,16 +1163,18 @@ std::string demMarkdown(const DemResult& d) {
             os << formatted("; the unloading stiffness grows with the stress it unloads from as stress^%.2f in the recording, "
                             "^%.2f with the Hertzian contacts and ^%.2f with the linear control",
                             d.labExponent, d.runs[static_cast<std::size_t>(d.chosen)].exponent, c.exponent);
-        os << ": "
-           << (d.contactLawDistinguished
-                   ? (byExponent ? "the control is clearly further from the recording, so the record needs the Hertzian force law."
-                                 : "clearly further from the recording's, so the curvature needs the Hertzian force law.")
-                   : (byExponent ? "the control is about as close to the recording, so the record does not tell Hertz's force law "
-                                   "from a linear one that soft (the bulk nonlinearity is confirmed, the contact law is not)."
-                                 : "about as close to the recording's, so the record shows contacts that are soft under the load; "
-                                   "it does not tell Hertz's force law from a linear one that soft (the bulk nonlinearity is "
-                                   "confirmed, the contact law is not; unloads from two stress levels at least a factor 2 "
-                                   "apart would judge it by how the unloading stiffness grows with the stress)."));
+        os << ": ";
+        if (d.contactLawDistinguished)
+            os << (byExponent ? "the control is clearly further from the recording, so the record needs the Hertzian force law."
+                              : "clearly further from the recording's, so the curvature needs the Hertzian force law.");
+        else if (byExponent)
+            os << "the control is about as close to the recording, so the record does not tell Hertz's force law from a linear "
+                  "one that soft (the bulk nonlinearity is confirmed, the contact law is not).";
+        else
+            os << "about as close to the recording's, so the record shows contacts that are soft under the load; it does not "
+                  "tell Hertz's force law from a linear one that soft (the bulk nonlinearity is confirmed, the contact law is "
+                  "not; unloads from two stress levels at least a factor "
+               << fmt(kExponentStressRatio) << " apart would judge it by how the unloading stiffness grows with the stress).";
     }
     os << " Runs, commands and logs are in `dem/`.\n";
     return os.str();

@@ -53,9 +53,14 @@
 // contacts whose normal stiffness is the chosen Hertzian run's secant stiffness at the mean contact
 // force of the top stress (--normal_stiffness_scale): the unloading curvature comes from contacts that
 // are soft under the load, Hertzian or not (measured on 940-particle beds: linear at the secant
-// stiffness of E* = 5e7 Pa, 1.37 and 1.44, against Hertz 1.43 and 1.45), so the Hertzian law counts as
-// distinguished only where the control misses the recording's curvature by kCurvatureMargin more than
-// the chosen run does. Confirmed only when no other
+// stiffness of E* = 5e7 Pa, 1.37 and 1.44, against Hertz 1.43 and 1.45). The judge is therefore the
+// pressure exponent of the unloading stiffness (unloadStiffnessExponent) where the recording unloads
+// from two stress levels at least kExponentStressRatio apart: Hertzian contacts stiffen with the force,
+// linear ones only through new contacts (measured: records 0.55-0.62, Hertzian runs 0.57-0.60, control
+// 0.33-0.38); the law counts as distinguished where the control misses the recording's exponent by
+// kExponentMargin more than the chosen run does. With one unload level the curvature with
+// kCurvatureMargin judges the same way. A failed control leaves the result and skips the judgement.
+// Confirmed only when no other
 // accepted mechanism has a DEM counterpart that can run (wall_friction without the device's size
 // cannot), or when DemOptions::mechanism names it.
 #pragma once
@@ -154,13 +159,18 @@ struct DemResult {
     std::vector<DemRun> runs;
     int chosen = -1;  ///< index of the scored augmented run
     /// stiffness_nonlinearity: index of the control run (linear contacts as soft as the chosen
-    /// Hertzian ones at the top stress; -1: none), and whether its unloading is clearly less curved
-    /// than the chosen run's relative to the recording (else the record tells the contacts' softness
-    /// under the load, not their force law)
+    /// Hertzian ones at the top stress; -1: none), and whether it misses the recording clearly more than
+    /// the chosen run does (by the unloading stiffness exponent, else the curvature; if not, the record
+    /// tells the contacts' softness under the load, not their force law)
     int control = -1;
     bool contactLawDistinguished = false;
-    /// stiffness_nonlinearity: the recording's unloading stiffness exponent (NaN: the curvature judges the control)
+    /// stiffness_nonlinearity: whether the pressure exponent of the unloading stiffness judged the control
+    /// (the recording's, the chosen run's and the control's all measured), else the curvature did
+    bool judgedByExponent = false;
+    /// stiffness_nonlinearity: the recording's unloading stiffness exponent (NaN: fewer than two unload levels)
     double labExponent = std::numeric_limits<double>::quiet_NaN();
+    /// stiffness_nonlinearity: why the control run is missing (it failed; the result stands, the law is not judged)
+    std::string controlNote;
     int calibrationHolds = 0, heldoutHolds = 0;  ///< holds (contact_relaxation) or unload/reload branches (the others)
     double stressScale = 1;   ///< plasticity, wall_friction: factor applied to the protocol's stresses
     /// plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches);
