@@ -635,6 +635,18 @@ ExplainResult accepted(int comp, int par, double value) {
     return r;
 }
 
+/// Writes DIR/p.json-style protocols of the stand-in tests (sand in a 70 mm x 20 mm oedometer): one
+/// step per (type, target stress in Pa), every one at 1e-5 m/s.
+void writeSandProtocol(const std::string& path, const std::vector<std::pair<std::string, double>>& steps) {
+    std::string list;
+    for (const auto& [type, target] : steps)
+        list += std::string(list.empty() ? "" : ",\n           ") + R"({"type": ")" + type +
+                R"(", "velocity_m_s": 1e-5, "target_stress_Pa": )" + fmt(target) + "}";
+    writeWholeFile(path, R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
+ "steps": [)" + list + "]}");
+}
+
 /// Writes the executable stand-in driver script `path`: "#!/bin/sh", the shell assignments `defaults`,
 /// a loop reading every "--flag value" pair into the variable v_flag (a flag without a value: v_flag=1;
 /// characters other than letters, digits and _ become _), then `body`.
@@ -696,11 +708,7 @@ TEST(ExplainCommand, DemConfirmationPlasticityCalibratesTheUnloadRatio) {
     const pdpm::testing::TempDir tmp;
     const std::string dir = tmp.str();
     writeStandInDriver(dir + "/driver.sh", "k_over_k1", "1 + 0.8 * (k - 1)", 1e6, 0.02, {"k_over_k1", "stress_scale"});
-    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
- "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
- "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
-           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 0},
-           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 500000}]})");
+    writeSandProtocol(dir + "/p.json", {{"ramp", 400e3}, {"unload", 0}, {"ramp", 500e3}});
     const Recording rec = labCycle(5e7, 0.008, 4.0);
     const ExplainResult r = accepted(kPlasticity, pLambda, 4.0);  // the surrogate's value; the stand-in's bulk ratio at k/k1 = 4 is 3.4
     DemOptions opt;
@@ -1043,13 +1051,7 @@ Recording curvedTwoLevels(double E, double s1, double s2, double T1, double x, d
 TEST(ExplainCommand, DemConfirmationNonlinearityJudgesTheLawByTheStiffnessExponent) {
     const pdpm::testing::TempDir tmp;
     const std::string dir = tmp.str();
-    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
- "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
- "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 100000},
-           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 5000},
-           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
-           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 20000},
-           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000}]})");
+    writeSandProtocol(dir + "/p.json", {{"ramp", 100e3}, {"unload", 5000}, {"ramp", 400e3}, {"unload", 20e3}, {"ramp", 400e3}});
     const double eMatch = hertzModulusMatching(kDemContactStiffness, kDemMeanDiameter, 20e3);
     const auto standIn = [&](const std::string& path, double xControl) {
         writeStandInScript(path, "v_hertz_modulus=0\nv_normal_stiffness_scale=1\n", R"(awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_scale" -v em0=")" +
@@ -1105,11 +1107,7 @@ BEGIN {
 TEST(ExplainCommand, DemConfirmationNonlinearityCalibratesTheUnloadCurvature) {
     const pdpm::testing::TempDir tmp;
     const std::string dir = tmp.str();
-    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
- "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "sand"},
- "steps": [{"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 400000},
-           {"type": "unload", "velocity_m_s": 1e-5, "target_stress_Pa": 20000},
-           {"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": 500000}]})");
+    writeSandProtocol(dir + "/p.json", {{"ramp", 400e3}, {"unload", 20e3}, {"ramp", 500e3}});
     const double eMatch = hertzModulusMatching(kDemContactStiffness, kDemMeanDiameter, 20e3);
     // E* of the first Hertzian run: its force equals the linear one at the overlap of the mean contact force
     const double delta = std::numbers::pi * kDemMeanDiameter * kDemMeanDiameter * 20e3 / (3 * kDemPackingPhiZ) / kDemContactStiffness;
