@@ -694,6 +694,13 @@ DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, cons
 
 // ---- stiffness_nonlinearity: the curvature of the unloading ---------------------------------------
 
+/// Samples at the top of an unload branch: the leading run with y >= 0.8 (the unloading tangent's window).
+std::size_t topSamples(const Branch& br) {
+    std::size_t top = 0;
+    while (top < br.y.size() && br.y[top] >= 0.8) ++top;
+    return top;
+}
+
 /// Curvature of the unload branches in `which`: the unloading tangent at the top (least-squares slope
 /// of y on u over the samples with y >= 0.8) over the secant from the top to where y first reaches
 /// yLow, averaged over the branches. A straight unloading gives 1; Hertzian contacts, whose stiffness
@@ -704,8 +711,7 @@ double unloadCurvature(const std::vector<Branch>& b, const std::vector<std::size
     for (std::size_t k : which) {
         if (k >= b.size() || b[k].phase != Phase::Unload) continue;
         const Branch& br = b[k];
-        std::size_t top = 0;
-        while (top < br.y.size() && br.y[top] >= 0.8) ++top;
+        const std::size_t top = topSamples(br);
         std::size_t low = top;
         while (low < br.y.size() && br.y[low] > yLow) ++low;
         if (top < 3 || low >= br.y.size() || !(br.u[low] > 0)) continue;
@@ -730,8 +736,7 @@ double unloadStiffnessExponent(const std::vector<Branch>& b) {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     if (!lo || !hi || !(hi->sRef >= kExponentStressRatio * lo->sRef) || !(lo->sRef > 0)) return nan;
     const auto tangent = [](const Branch& br) {
-        std::size_t top = 0;
-        while (top < br.y.size() && br.y[top] >= 0.8) ++top;
+        const std::size_t top = topSamples(br);
         return top >= 3 ? slope(br.e, br.s, 0, top) : nan;
     };
     const double tLo = tangent(*lo), tHi = tangent(*hi);
