@@ -284,7 +284,9 @@ void DPMBase::solve() {
     }
     actionsAfterSolve();
     if (!lastWasOutput) {
-        if (outputNeedsContacts()) refreshContacts();
+        // the last step's own records when it made them (a driver's requestContacts()): a refresh would
+        // re-evaluate them with the current rather than the step's predicted velocities
+        if (outputNeedsContacts() && !lastStepRecorded_) refreshContacts();
         writeOutputFiles();
     }
     progress_->finish(step_);

@@ -213,7 +213,12 @@ void ElementTest::actionsOnRestart() {
 
 void ElementTest::actionsBeforeTimeLoop() {
     ctrl_.applyRates(box(), time());  // after a restart: the box's motion before the first step
-    if (ctrl_.needsStress()) refreshContacts();
+    if (ctrl_.needsStress()) {
+        // the first step uses the stored (restart) or the current contact sum; every later step uses the
+        // records of the step before it, so the first step records too (as actionsAfterTimeStep asks)
+        if (!haveRestoredContactSum_) refreshContacts();
+        requestContacts();
+    }
 }
 
 void ElementTest::enterStage(std::size_t k) {
@@ -230,12 +235,18 @@ void ElementTest::enterStage(std::size_t k) {
                                stages_[k].name.c_str(), volumeFraction());
 }
 
-Vec3 ElementTest::currentStressDiagonal() {
+Vec3 ElementTest::contactStressSum() const {
     Vec3 s;
     for (const auto& c : contacts()) {
         const Vec3 f = c.fn * c.n + c.ft;
         for (int a = 0; a < 3; ++a) s[a] += f[a] * c.branch[a];
     }
+    return s;
+}
+
+Vec3 ElementTest::currentStressDiagonal() {
+    Vec3 s = haveRestoredContactSum_ ? restoredContactSum_ : contactStressSum();
+    haveRestoredContactSum_ = false;
     const ParticleData& P = particles();
     for (std::size_t i = 0; i < P.size(); ++i)
         for (int a = 0; a < 3; ++a) s[a] += P.m[i] * P.v[i][a] * P.v[i][a];
@@ -315,6 +326,8 @@ void ElementTest::saveDriverState(std::vector<std::pair<std::string, std::string
     kv.emplace_back("stage", std::to_string(stage_));
     kv.emplace_back("stage_begun", begun_ ? "1" : "0");
     kv.emplace_back("stage_start", fmt(stageStart_));
+    // written from actionsAfterTimeStep or writeOutputFiles, where contacts() are this step's records
+    if (ctrl_.needsStress() && contactsAreCurrent()) kv.emplace_back("contact_stress_sum", fmt(contactStressSum()));
     ctrl_.save(kv);
 }
 
@@ -324,6 +337,12 @@ void ElementTest::loadDriverState(const std::vector<std::pair<std::string, std::
         if (k == "stage" && parseStrictLong(v, x) && x >= 0) stage_ = static_cast<std::size_t>(x);
         else if (k == "stage_begun") begun_ = v == "1";
         else if (k == "stage_start") parseDouble(v, stageStart_);
+        else if (k == "contact_stress_sum") {
+            std::istringstream is(v);
+            restoredContactSum_ = readVec3(is);
+            if (!is) inputError("restart file: malformed contact_stress_sum '" + v + "'");
+            haveRestoredContactSum_ = true;
+        }
     }
     ctrl_.load(kv);
 }

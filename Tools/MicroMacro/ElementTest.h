@@ -103,7 +103,10 @@ private:
     void buildStages();
     void enterStage(std::size_t k);
     void setMaterial();
+    /// Diagonal of the stress (Eq. 2.5) from the last step's contact records and the current velocities.
     Vec3 currentStressDiagonal();
+    /// Its contact part before division by the volume: sum over records of f_a branch_a.
+    Vec3 contactStressSum() const;
     double testDuration() const;
     double testStart() const;
 
@@ -117,6 +120,11 @@ private:
     double lastFraction_ = 0;
     std::vector<double> fractions_;
     Vec3 refLength_;
+    /// Stress control after a restart: the contact sum of the step the file was written at. Those records
+    /// were made with the predicted velocities of that step, which a re-evaluation cannot reproduce
+    /// bit for bit, so the first step after a restart uses the stored sum (see loadDriverState).
+    Vec3 restoredContactSum_;
+    bool haveRestoredContactSum_ = false;
 };
 
 } // namespace pdpm
