@@ -45,13 +45,8 @@ private:
             double goal = lateral_;
             if (lateralFromStart_) {
                 refreshContacts();
-                double sxx = 0, syy = 0;
-                for (const auto& c : contacts()) {
-                    const pdpm::Vec3 f = c.fn * c.n + c.ft;
-                    sxx += f.x * c.branch.x;
-                    syy += f.y * c.branch.y;
-                }
-                goal = 0.5 * (sxx + syy) / box().volume();
+                const pdpm::Vec3 sum = contactStressSum();
+                goal = 0.5 * (sum.x + sum.y) / box().volume();
                 if (!(goal > 0)) pdpm::inputError("triaxial: the packing carries no lateral stress at the start (below jamming?)");
             }
             const double m = wallMass_ * totalMass();

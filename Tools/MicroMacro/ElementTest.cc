@@ -262,6 +262,8 @@ void ElementTest::actionsBeforeTimeStep() {
     std::vector<double> dens;
     if (ctrl_.swelling() != 0)
         for (int s = 0; s < species().size(); ++s) dens.push_back(species()[s].density);
+    // a stress-controlled stage's first step: the records of the last step may be an older output's
+    if (ctrl_.needsStress() && !haveRestoredContactSum_ && !contactsAreCurrent()) refreshContacts();
     const Vec3 sigma = ctrl_.needsStress() ? currentStressDiagonal() : Vec3{};
     ctrl_.step(box(), particles(), t, dt, sigma, dens);
     if (ctrl_.swelling() != 0) {

@@ -48,6 +48,9 @@ public:
     std::string stageName() const;
 
 protected:
+    /// Contact part of the stress diagonal before division by the volume: sum over the records of
+    /// f_a branch_a (Eq. 2.5), in the records' order.
+    Vec3 contactStressSum() const;
     /// Append the driver's stages (after the preparation). Called at set-up and on --restart (where
     /// the `begin` of stages already begun is not called again).
     virtual void addTestStages() = 0;
@@ -105,8 +108,6 @@ private:
     void setMaterial();
     /// Diagonal of the stress (Eq. 2.5) from the last step's contact records and the current velocities.
     Vec3 currentStressDiagonal();
-    /// Its contact part before division by the volume: sum over records of f_a branch_a.
-    Vec3 contactStressSum() const;
     double testDuration() const;
     double testStart() const;
 

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Thesis Fig. 2.3: the ratio of kinetic to potential energy during the isotropic cycle from v_1 = 0.673
+# to v_max = 0.82 and back (preset thesis-ch2, N = 9261, frictionless), against the scaled time
+# t_s = t/T of the cycle, for the periods T of PERIODS (seconds; the thesis: 5000 us and 50000 us).
+# Usage: chapter2-fig2_3.sh BIN_DIR [THREADS]        (about 25 min per 5000 us on one thread)
+# Environment: PERIODS (default "0.005"), SKIP_RUNS=1 (analyse the files already in fig2_3/).
+# Writes fig2_3/table.txt (share of the cycle's rows with E_k/E_p <= 1e-3, overall, on loading and
+# on unloading, for the total and for the fluctuation kinetic energy; the ratio at the start of the
+# cycle and its median) and fig2_3/fig2_3.png (log E_k/E_p against t_s). No pass/fail gate: the
+# thesis gives the figure, not numbers; the table says what came out.
+set -euo pipefail
+bin="$1"; threads="${2:-1}"
+periods="${PERIODS:-0.005}"
+mkdir -p fig2_3
+if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
+  for T in $periods; do
+    "$bin/IsotropicCompression" --preset thesis-ch2 --v_i 0.673 --period "$T" --threads "$threads" --quiet --vtk 0 \
+      --save_fractions "" --output fig2_3 --name "ISO_T$T"
+  done
+fi
+python3 - $periods <<'PY' | tee fig2_3/table.txt
+import csv, sys, statistics
+print(f"{'T_s':>8} {'rows':>5} {'<=1e-3 all':>10} {'loading':>8} {'unloading':>9} {'fluct all':>9} {'start':>9} {'median':>9}")
+for T in sys.argv[1:]:
+    rows = [r for r in csv.DictReader(open(f"fig2_3/ISO_T{T}.macro.csv")) if float(r['tau']) >= 0]
+    ek = [float(r['Ek_over_Ep']) for r in rows]
+    fl = [float(r['Ek_fluct_over_Ep']) for r in rows]
+    tau = [float(r['tau']) for r in rows]
+    share = lambda xs: 100 * sum(x <= 1e-3 for x in xs) / max(len(xs), 1)
+    load = [e for e, t in zip(ek, tau) if t <= 0.5]
+    unload = [e for e, t in zip(ek, tau) if t > 0.5]
+    print(f"{T:>8} {len(ek):5d} {share(ek):9.0f}% {share(load):7.0f}% {share(unload):8.0f}% {share(fl):8.0f}% "
+          f"{ek[0]:9.2e} {statistics.median(ek):9.2e}")
+PY
+if command -v gnuplot > /dev/null; then
+  {
+    echo "set terminal pngcairo size 900,600 noenhanced; set output 'fig2_3/fig2_3.png'; set datafile separator ','"
+    echo "set logscale y; set grid; set xlabel 't_s = t / T (cycle 0.673 -> 0.82 -> 0.673)'; set ylabel 'E_k / E_p'"
+    echo "set key top right; set format y '%.0e'"
+    printf "plot 1e-3 w l dt 2 lc rgb 'black' t 'E_k/E_p = 1e-3'"
+    k=1
+    for T in $periods; do
+      printf ", 'fig2_3/ISO_T%s.macro.csv' u (column('tau') >= 0 ? column('tau') : 1/0):'Ek_over_Ep' w l lw 2 lc %d t 'T = %s s'" "$T" "$k" "$T"
+      k=$((k + 1))
+    done
+    echo
+  } > fig2_3/fig2_3.gp
+  gnuplot fig2_3/fig2_3.gp || echo "chapter2-fig2_3.sh: gnuplot failed"
+fi
