@@ -9,7 +9,7 @@
 # cycle and its median) and fig2_3/fig2_3.png (log E_k/E_p against t_s). No pass/fail gate: the
 # thesis gives the figure, not numbers; the table says what came out.
 set -euo pipefail
-bin="$1"; threads="${2:-1}"
+bin="${1:?usage: chapter2-fig2_3.sh BIN_DIR [THREADS]}"; threads="${2:-1}"
 periods="${PERIODS:-0.005}"
 mkdir -p fig2_3
 if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
@@ -36,7 +36,7 @@ if command -v gnuplot > /dev/null; then
   {
     echo "set terminal pngcairo size 900,600 noenhanced; set output 'fig2_3/fig2_3.png'; set datafile separator ','"
     echo "set logscale y; set grid; set xlabel 't_s = t / T (cycle 0.673 -> 0.82 -> 0.673)'; set ylabel 'E_k / E_p'"
-    echo "set key top right; set format y '%.0e'"
+    echo "set key top right; set format y '%.0e'; set xrange [0:1]"
     printf "plot 1e-3 w l dt 2 lc rgb 'black' t 'E_k/E_p = 1e-3'"
     k=1
     for T in $periods; do

@@ -213,7 +213,10 @@ void ElementTest::actionsOnRestart() {
 
 void ElementTest::actionsBeforeTimeLoop() {
     ctrl_.applyRates(box(), time());  // after a restart: the box's motion before the first step
-    if (ctrl_.needsStress()) {
+    // whether the step before the loop was stress-controlled (after a restart: the stored controller's
+    // state); a stage that enters stress control re-evaluates its records (actionsBeforeTimeStep)
+    stressLastStep_ = ctrl_.needsStress();
+    if (stressLastStep_) {
         // the first step uses the stored (restart) or the current contact sum; every later step uses the
         // records of the step before it, so the first step records too (as actionsAfterTimeStep asks)
         if (!haveRestoredContactSum_) refreshContacts();
@@ -246,7 +249,6 @@ Vec3 ElementTest::contactStressSum() const {
 
 Vec3 ElementTest::currentStressDiagonal() {
     Vec3 s = haveRestoredContactSum_ ? restoredContactSum_ : contactStressSum();
-    haveRestoredContactSum_ = false;
     const ParticleData& P = particles();
     for (std::size_t i = 0; i < P.size(); ++i)
         for (int a = 0; a < 3; ++a) s[a] += P.m[i] * P.v[i][a] * P.v[i][a];
@@ -262,9 +264,20 @@ void ElementTest::actionsBeforeTimeStep() {
     std::vector<double> dens;
     if (ctrl_.swelling() != 0)
         for (int s = 0; s < species().size(); ++s) dens.push_back(species()[s].density);
-    // a stress-controlled stage's first step: the records of the last step may be an older output's
-    if (ctrl_.needsStress() && !haveRestoredContactSum_ && !contactsAreCurrent()) refreshContacts();
-    const Vec3 sigma = ctrl_.needsStress() ? currentStressDiagonal() : Vec3{};
+    // The stress of a stress-controlled step comes from the last step's records. At the first step of
+    // stress control they may be an output's, or none; a straight and a restarted run then both
+    // re-evaluate them here, from the same state. The stored sum of a restart serves its first step only.
+    const bool stress = ctrl_.needsStress();
+    Vec3 sigma{};
+    if (stress) {
+        if (!stressLastStep_) {
+            refreshContacts();
+            haveRestoredContactSum_ = false;
+        }
+        sigma = currentStressDiagonal();
+    }
+    haveRestoredContactSum_ = false;
+    stressLastStep_ = stress;
     ctrl_.step(box(), particles(), t, dt, sigma, dens);
     if (ctrl_.swelling() != 0) {
         solid_ = 0;
@@ -292,7 +305,10 @@ void ElementTest::writeOutputFiles() {
     DPMBase::writeOutputFiles();
     const auto& p = parameters();
     auto on = [&](const char* n) { const std::string v = p.get(n); return v == "1" || v == "true"; };
-    if (!(on("vtk") || on("ene") || on("fstat"))) refreshContacts();
+    // records for the macro row where the kernel made none (no ene, vtk or fstat output): a refresh,
+    // unless the step made its own (stress control asks for them every step; replacing them would make
+    // the next step's stress depend on the output flags)
+    if (!(on("vtk") || on("ene") || on("fstat")) && !contactsAreCurrent()) refreshContacts();
     MacroInput in;
     in.volume = box().volume();
     in.time = time();
@@ -328,7 +344,8 @@ void ElementTest::saveDriverState(std::vector<std::pair<std::string, std::string
     kv.emplace_back("stage", std::to_string(stage_));
     kv.emplace_back("stage_begun", begun_ ? "1" : "0");
     kv.emplace_back("stage_start", fmt(stageStart_));
-    // written from actionsAfterTimeStep or writeOutputFiles, where contacts() are this step's records
+    // written from actionsAfterTimeStep or writeOutputFiles; under stress control contacts() are then
+    // the records the step made (otherwise records re-evaluated at this state, as a straight run uses them)
     if (ctrl_.needsStress() && contactsAreCurrent()) kv.emplace_back("contact_stress_sum", fmt(contactStressSum()));
     ctrl_.save(kv);
 }

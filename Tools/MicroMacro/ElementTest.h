@@ -126,6 +126,7 @@ private:
     /// bit for bit, so the first step after a restart uses the stored sum (see loadDriverState).
     Vec3 restoredContactSum_;
     bool haveRestoredContactSum_ = false;
+    bool stressLastStep_ = false;  ///< the last step ran under stress control (not stored: derived from the controller)
 };
 
 } // namespace pdpm
