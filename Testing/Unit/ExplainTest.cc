@@ -19,6 +19,7 @@
 #include "IO/AtomicFile.h"
 #include "IO/Json.h"
 #include "IO/NumberFormat.h"
+#include "LateralChannel.h"
 #include "SeveralRecordings.h"
 #include "TempDir.h"
 
@@ -1887,4 +1888,56 @@ TEST(ExplainCreep, StepColumnOutsideTheProtocolIsRefused) {
         os << rec.t[i] << "," << (i + 1 == rec.size() ? 7 : rec.step[i]) << "," << rec.strain[i] << "," << rec.stress[i] << "\n";
     writeWholeFile(csv, os.str());
     EXPECT_THROW(readRecording(csv, proto), InputError);
+}
+
+// The lateral channel's summary on an oedometer record made with K0 = 0.4 on virgin loading (0.7
+// during seating, below 30 % of the top stress, left out), K0 = 0.4 OCR^0.55 on unloading and on the
+// reload below the previous maximum: load 100 kPa, unload 25 kPa, reload 150 kPa, unload 50 kPa.
+TEST(ExplainLateral, K0OnVirginLoadingAndTheOverconsolidationExponent) {
+    struct Rec {
+        std::vector<double> t, e, s, lat;
+    };
+    const auto record = [](double m) {
+        Rec r;
+        double eps = 0, sig = 0, sMax = 0;
+        const auto push = [&] {
+            sMax = std::max(sMax, sig);
+            const double k = sig < 0.3 * 150e3 && sig >= sMax ? 0.7 : 0.4 * std::pow(sMax / std::max(sig, 1.0), m);
+            r.t.push_back(static_cast<double>(r.t.size())), r.e.push_back(eps), r.s.push_back(sig), r.lat.push_back(k * sig);
+        };
+        const double de = 2e-5;
+        push();
+        while (sig < 100e3) eps += de, sig = std::min(1e7 * eps, 100e3), push();     // virgin loading
+        while (sig > 25e3) eps -= de, sig = std::max(sig - 3e7 * de, 25e3), push();  // unloading
+        while (sig < 150e3) eps += de, sig = std::min(sig < sMax ? sig + 3e7 * de : 1e7 * eps, 150e3), push();  // reload, then virgin
+        while (sig > 50e3) eps -= de, sig = std::max(sig - 3e7 * de, 50e3), push();  // unloading
+        return r;
+    };
+    const Rec rec = record(0.55);
+    const std::vector<double>&t = rec.t, &e = rec.e, &s = rec.s, &lat = rec.lat;
+    const LateralSummary L = summariseLateral(t, e, s, lat);
+    ASSERT_TRUE(L.present);
+    EXPECT_NEAR(L.k0, 0.4, 1e-9) << "seating samples below 30 % of the top and the reload below the old maximum left out";
+    EXPECT_GT(L.loadingSamples, 100);
+    EXPECT_NEAR(L.m, 0.55, 1e-6);
+    EXPECT_NEAR(L.ocrMax, 4.0, 0.05) << "100 kPa -> 25 kPa";
+    EXPECT_NEAR(L.phiJakyDeg, std::asin(0.6) * 180 / std::numbers::pi, 1e-6);
+    EXPECT_NEAR(L.phiUnloadDeg, std::asin(0.55) * 180 / std::numbers::pi, 1e-4);
+    const Json j = lateralJson(L);
+    EXPECT_NEAR(j.at("k0_virgin_loading").asNumber(), 0.4, 1e-9);
+    EXPECT_NEAR(j.at("unload_ocr_exponent").asNumber(), 0.55, 1e-6);
+    EXPECT_FALSE(j.at("modelled").asBool());
+    const std::string w = lateralWords(L);
+    EXPECT_NE(w.find("K0 = 0.4"), std::string::npos) << w;
+    EXPECT_NE(w.find("within 3.5 deg of each other"), std::string::npos) << w;  // 36.87 against 33.37 deg
+    // an exponent of 0.3 on unloading (phi 17.5 deg against Jaky's 36.9): the angles are said to be apart
+    const Rec r03 = record(0.3);
+    const LateralSummary L03 = summariseLateral(r03.t, r03.e, r03.s, r03.lat);
+    EXPECT_NEAR(L03.m, 0.3, 1e-6);
+    EXPECT_NE(lateralWords(L03).find("19 deg apart"), std::string::npos) << lateralWords(L03);
+    // no lateral channel: nothing to say; one that never passes 30 % of the top on virgin loading: no K0
+    EXPECT_FALSE(summariseLateral(t, e, s, {}).present);
+    EXPECT_EQ(lateralWords(summariseLateral(t, e, s, {})), "");
+    std::vector<double> nanLat(lat.size(), std::nan(""));
+    EXPECT_FALSE(summariseLateral(t, e, s, nanLat).present);
 }

@@ -1,4 +1,5 @@
 #include "Explain.h"
+#include "LateralChannel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -1226,6 +1227,8 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         }
         j.set("bottom_sensor", o);
     }
+    const LateralSummary lateral = summariseLateral(rec.t, rec.strain, rec.stress, rec.lateral);
+    if (!rec.lateral.empty()) j.set("lateral_channel", lateralJson(lateral));
     Json wins = Json::array();
     for (const auto& w : R.windows) wins.push(windowJson(w));
     j.set("windows", wins);
@@ -1356,6 +1359,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
                << " % of it; wall friction is judged on the piston stress, with the sensor's (weak) evidence added to its score.\n\n";
         }
     }
+    md << lateralWords(lateral);
     if (opt.knownCompliance > 0)
         md << "The instrument compliance is taken as calibrated (ratio " << num(opt.knownCompliance, 3)
            << ", from MODEL.json) and held there, not fitted.\n\n";
