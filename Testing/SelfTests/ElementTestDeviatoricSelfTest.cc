@@ -68,8 +68,14 @@ int main() {
     const Series th = select(t, "eps_dev", "sig_theta1", test);
     check(meanOver(th, 0.1, 0.3) < 20, "major stress axis near z (" + std::to_string(meanOver(th, 0.1, 0.3)) + " deg)");
 
-    rc = runDriver<DeviatoricD2>({"--quiet", "--threads", "1", "--vtk", "0", "--output", "tri", "--particles", "500", "--mode", "triaxial",
-                                  "--rate", "5", "--eps_dev_max", "0.05", "--outputs", "40"});
+    // the triaxial run of every check below, written to `dir`, with extra flags
+    const auto triaxial = [](const std::string& dir, std::vector<std::string> extra) {
+        std::vector<std::string> args = {"--quiet", "--threads", "1", "--vtk", "0", "--output", dir, "--particles", "500",
+                                         "--mode", "triaxial", "--rate", "5", "--eps_dev_max", "0.05", "--outputs", "40"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return runDriver<DeviatoricD2>(args);
+    };
+    rc = triaxial("tri", {});
     check(rc == 0, "triaxial exit code 0");
     if (rc != 0) return 1;
     const pdpm::CsvTable u = pdpm::readCsv("tri/DeviatoricD2.macro.csv");
@@ -96,10 +102,9 @@ int main() {
     // the first half wrote when it stopped; it is the first row that differs, and is left out.
     const auto splitMatches = [&](const std::string& dir, const std::vector<std::string>& flags, const std::string& tSplit,
                                   const std::vector<std::string>& straight, const std::string& what) {
-        std::vector<std::string> args = {"--quiet", "--threads", "1", "--vtk", "0", "--output", dir, "--particles", "500", "--mode",
-                                         "triaxial", "--rate", "5", "--eps_dev_max", "0.05", "--outputs", "40", "--time_max", tSplit};
-        args.insert(args.end(), flags.begin(), flags.end());
-        check(runDriver<DeviatoricD2>(args) == 0, what + ": first half exit code 0");
+        std::vector<std::string> firstHalf = {"--time_max", tSplit};
+        firstHalf.insert(firstHalf.end(), flags.begin(), flags.end());
+        check(triaxial(dir, firstHalf) == 0, what + ": first half exit code 0");
         check(readWholeText(dir + "/DeviatoricD2.restart").find("\ncontact_stress_sum ") != std::string::npos,
               what + ": the restart file holds the stress control's contact sum");
         check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", dir, "--restart", dir + "/DeviatoricD2.restart",
@@ -124,9 +129,7 @@ int main() {
     splitMatches("tri2", {}, std::to_string(t0 + 0.437 * (u.rows.back()[u.column("time")] - t0)), tri, "triaxial run");
     // without ene, vtk and fstat output the macro rows need records the kernel does not make; the
     // restart at an output time of the straight run (the row at tau >= 0.5)
-    check(runDriver<DeviatoricD2>({"--quiet", "--threads", "1", "--vtk", "0", "--ene", "0", "--output", "tri3", "--particles", "500",
-                                   "--mode", "triaxial", "--rate", "5", "--eps_dev_max", "0.05", "--outputs", "40"}) == 0,
-          "triaxial run without ene output exit code 0");
+    check(triaxial("tri3", {"--ene", "0"}) == 0, "triaxial run without ene output exit code 0");
     const std::vector<std::string> triNoEne = lines("tri3/DeviatoricD2.macro.csv");
     std::string tOut;
     for (std::size_t k = 1; k < u.rows.size() && tOut.empty(); ++k)
