@@ -10,12 +10,19 @@
 #include "Core/Error.h"
 #include "IO/AtomicFile.h"
 #include "IO/NumberFormat.h"
+#include "IO/RestartSeal.h"
 
 namespace pdpm {
 
 namespace {
 constexpr const char* kMagic = "PowderDPM-restart";
 constexpr int kVersion = 4;  // 3: walls carry their last force and torque; 4: relaxMemory
+
+void expect(std::istream& is, const std::string& tag, const std::string& file) {
+    std::string t;
+    is >> t;
+    if (!is || t != tag) inputError("restart file " + file + ": expected '" + tag + "' but found '" + t + "'");
+}
 
 uint64_t fnv1a(const std::string& s) {
     uint64_t h = 1469598103934665603ull;
@@ -25,13 +32,20 @@ uint64_t fnv1a(const std::string& s) {
     }
     return h;
 }
-
-void expect(std::istream& is, const std::string& tag, const std::string& file) {
-    std::string t;
-    is >> t;
-    if (!is || t != tag) inputError("restart file " + file + ": expected '" + tag + "' but found '" + t + "'");
-}
 } // namespace
+
+std::string restartChecksumLine(const std::string& body) {
+    char tail[64];
+    std::snprintf(tail, sizeof tail, "end %016" PRIx64 "\n", fnv1a(body));
+    return tail;
+}
+
+std::string resealRestartText(const std::string& text) {
+    const std::size_t endPos = text.rfind("\nend ");
+    if (endPos == std::string::npos) return {};
+    const std::string body = text.substr(0, endPos + 1);
+    return body + restartChecksumLine(body);
+}
 
 void DPMBase::writeRestart(const std::string& path) const {
     std::ostringstream os;
@@ -70,9 +84,7 @@ void DPMBase::writeRestart(const std::string& path) const {
     os << "driver " << kv.size() << '\n';
     for (const auto& [k, v] : kv) os << k << ' ' << v << '\n';
     std::string body = os.str();
-    char tail[64];
-    std::snprintf(tail, sizeof tail, "end %016" PRIx64 "\n", fnv1a(body));
-    body += tail;
+    body += restartChecksumLine(body);
     writeWholeFile(path, body);
 }
 

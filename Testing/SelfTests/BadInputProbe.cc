@@ -4,9 +4,7 @@
 // valid simulation (two spheres colliding head-on next to a floor) and exits 0.
 //
 // Test helper mode:  BadInputProbe --rehash FILE   recomputes the checksum line of an edited restart
-// file (FNV-1a 64 of everything before the last "end" line), so that the version and program checks
-// behind the checksum can be reached.
-#include <cinttypes>
+// file (IO/RestartSeal.h), so that the version and program checks behind the checksum can be reached.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -18,6 +16,7 @@
 
 #include "Contacts/ContactParameters.h"
 #include "Core/DPMBase.h"
+#include "IO/RestartSeal.h"
 #include "Walls/Wall.h"
 
 using namespace pdpm;
@@ -84,19 +83,10 @@ int rehash(const char* path) {
     std::ifstream in(path, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
-    const std::string text = ss.str();
-    const std::size_t endPos = text.rfind("\nend ");
-    if (!in || endPos == std::string::npos) return 1;
-    const std::string body = text.substr(0, endPos + 1);
-    uint64_t h = 1469598103934665603ull;
-    for (unsigned char c : body) {
-        h ^= c;
-        h *= 1099511628211ull;
-    }
-    char tail[64];
-    std::snprintf(tail, sizeof tail, "end %016" PRIx64 "\n", h);
+    const std::string sealed = pdpm::resealRestartText(ss.str());
+    if (!in || sealed.empty()) return 1;
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << body << tail;
+    out << sealed;
     return out ? 0 : 1;
 }
 

@@ -8,7 +8,8 @@
 // current instead of the step's predicted velocities, and the second step stale records, so the rows
 // after the restart differed from about the 11th digit on. The same without ene output, split at an
 // output time (there the macro row needs records the kernel did not make; replacing the step's own
-// records made the next step's stress, and so the run, depend on the output flags).
+// records made the next step's stress, and so the run, depend on the output flags). A restart whose
+// saved contact sum is malformed (edited, checksum resealed) is refused with exit code 2.
 // "Builds up": the signed anisotropy (sigma_zz - sigma_xx)/p (z is compressed, x extended) rises by at
 // least 0.1 from the isotropic start (the last row before the shear) to its mean over eps_dev in
 // [0.15, 0.3], and the late s_dev exceeds 0.15. Until 2026-12-04 the check was "the mean s_dev over
@@ -22,6 +23,7 @@
 #include <sstream>
 
 #include "../../Drivers/Deviatoric/DeviatoricD2.h"
+#include "IO/RestartSeal.h"
 #include "ElementTestCommon.h"
 
 namespace {
@@ -127,6 +129,22 @@ int main() {
     for (const auto& r : u.rows)
         if (r[ut] < 0) t0 = r[u.column("time")];
     splitMatches("tri2", {}, std::to_string(t0 + 0.437 * (u.rows.back()[u.column("time")] - t0)), tri, "triaxial run");
+    // the saved contact sum edited into a malformed value (file resealed, so the checksum passes): refused
+    {
+        std::string text = readWholeText("tri2/DeviatoricD2.restart");
+        const std::size_t at = text.find("\ncontact_stress_sum ");
+        check(at != std::string::npos, "the final restart file holds the contact sum");
+        if (at != std::string::npos) {
+            for (const char* bad : {"1 2 oops", "1 2 3 4", "nan 0 0"}) {
+                const std::size_t from = at + 20, to = text.find('\n', from);
+                const std::string edited = pdpm::resealRestartText(text.substr(0, from) + bad + text.substr(to));
+                std::ofstream("tri2/edited.restart", std::ios::binary | std::ios::trunc) << edited;
+                check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart",
+                                               "tri2/edited.restart"}) == 2,
+                      std::string("a restart with contact_stress_sum '") + bad + "' is refused (exit code 2)");
+            }
+        }
+    }
     // without ene, vtk and fstat output the macro rows need records the kernel does not make; the
     // restart at an output time of the straight run (the row at tau >= 0.5)
     check(triaxial("tri3", {"--ene", "0"}) == 0, "triaxial run without ene output exit code 0");

@@ -351,15 +351,26 @@ void ElementTest::saveDriverState(std::vector<std::pair<std::string, std::string
 }
 
 void ElementTest::loadDriverState(const std::vector<std::pair<std::string, std::string>>& kv) {
+    const auto malformed = [](const std::string& k, const std::string& v) {
+        inputError("restart file: malformed " + k + " '" + v + "'");
+    };
     for (const auto& [k, v] : kv) {
         long x = 0;
-        if (k == "stage" && parseStrictLong(v, x) && x >= 0) stage_ = static_cast<std::size_t>(x);
-        else if (k == "stage_begun") begun_ = v == "1";
-        else if (k == "stage_start") parseDouble(v, stageStart_);
-        else if (k == "contact_stress_sum") {
-            std::istringstream is(v);
-            restoredContactSum_ = readVec3(is);
-            if (!is) inputError("restart file: malformed contact_stress_sum '" + v + "'");
+        if (k == "stage") {
+            if (!parseStrictLong(v, x) || x < 0) malformed(k, v);
+            stage_ = static_cast<std::size_t>(x);
+        } else if (k == "stage_begun") {
+            if (v != "0" && v != "1") malformed(k, v);
+            begun_ = v == "1";
+        } else if (k == "stage_start") {
+            if (!parseDouble(v, stageStart_)) malformed(k, v);
+        } else if (k == "contact_stress_sum") {
+            // three finite numbers separated by single spaces, nothing else (as saveDriverState writes)
+            const auto s1 = v.find(' '), s2 = v.rfind(' ');
+            Vec3& c = restoredContactSum_;
+            if (s1 == std::string::npos || s1 == s2 || !parseDouble(v.substr(0, s1), c.x) ||
+                !parseDouble(v.substr(s1 + 1, s2 - s1 - 1), c.y) || !parseDouble(v.substr(s2 + 1), c.z))
+                malformed(k, v);
             haveRestoredContactSum_ = true;
         }
     }

@@ -1,0 +1,16 @@
+#pragma once
+// The checksum line that closes a restart file (format in Documentation/restart.md): "end HEX",
+// HEX the 64-bit FNV-1a hash of every byte before it. DPMBase writes and checks it; the bad-input
+// probes use it to seal a deliberately edited file, so that the edit, not the checksum, is refused.
+#include <string>
+
+namespace pdpm {
+
+/// The line "end %016x\n" for `body` (the file's text up to and including its last newline).
+std::string restartChecksumLine(const std::string& body);
+
+/// `text` (a restart file, sealed or not) with its checksum line replaced by one for the rest;
+/// empty if `text` has no "\nend " line to replace.
+std::string resealRestartText(const std::string& text);
+
+} // namespace pdpm
