@@ -256,7 +256,17 @@ protected:
                 (k == "holdT" ? holds_.back().t : holds_.back().s) = splitNumbers(v, k);
             }
         }
-        if (pistonWall_ >= walls().size() || bottomWall_ >= walls().size()) inputError("restart file: wall indices out of range");
+        if (pistonWall_ >= walls().size() || bottomWall_ >= walls().size() || pistonWall_ == bottomWall_)
+            inputError("restart file: wall indices out of range");
+        // what a straight run can have been in: rows as wide as the header, paired hold samples, a
+        // running hold clock with at least its first sample, a lab clock that never runs backwards
+        for (const auto& row : rec_.rows)
+            if (row.size() != rec_.columns.size()) inputError("restart file: a recRow does not match recColumns");
+        for (const auto& h : holds_)
+            if (h.t.size() != h.s.size()) inputError("restart file: holdT and holdS differ in length");
+        if (inHold_ && (holds_.empty() || (!settling_ && holds_.back().t.empty())))
+            inputError("restart file: a hold in progress without its samples");
+        if (labScale_ < 0 || pistonZ0_ <= 0 || pistonZ_ <= 0) inputError("restart file: invalid piston or lab clock state");
     }
 
     // parameters and state a subclass reads or sets

@@ -149,6 +149,10 @@ protected:
     }
 
     void actionsOnRestart() override {
+        // poured counts the spheres inserted, of which those above the fill height were removed
+        if (mouldWall_ < -1 || mouldWall_ >= static_cast<long>(walls().size()) || poured_ < 0 || poured_ > 1e12 ||
+            poured_ != std::floor(poured_))
+            inputError("restart file: mould wall or poured count out of range");
         ConfinedCompression::actionsOnRestart();
         loadMaterial();
         checkHertzLaw(*this);

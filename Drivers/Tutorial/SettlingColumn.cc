@@ -17,7 +17,7 @@ public:
     // Each parameter is registered once. That gives it a flag (--particles 500), a line in --help
     // with its unit and allowed range, range checking, and a place in the restart file.
     SettlingColumn() : DPMBase("SettlingColumn", "Tutorial: spheres settle under gravity in an open box") {
-        parameters().add("particles", &n_, 1000L, "-", "number of spheres", Range::atLeast(1));
+        parameters().add("particles", &n_, 1000L, "-", "number of spheres (at most 1e8)", Range::closed(1, 1e8));
         parameters().add("radius", &r_, 1e-3, "m", "mean radius (radii vary by +-10 %)", Range::positive());
         parameters().add("mu", &mu_, 0.5, "-", "sliding friction coefficient", Range::nonNegative());
         parameters().add("restitution", &e_, 0.5, "-", "restitution coefficient", Range::openClosed(0, 1));

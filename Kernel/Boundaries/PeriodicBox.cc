@@ -125,7 +125,8 @@ void PeriodicBox::read(std::istream& is) {
     bool p[3];
     is >> p[0] >> p[1] >> p[2];
     const double c0 = readDouble(is), c1 = readDouble(is), c2 = readDouble(is);
-    if (!is || tag != "box") inputError("restart: malformed box record");
+    if (!is || tag != "box" || !std::isfinite(c0) || !std::isfinite(c1) || !std::isfinite(c2))
+        inputError("restart: malformed box record");  // set() checks the bounds
     set(lo, hi, p[0], p[1], p[2]);
     change_ = {c0, c1, c2};
 }

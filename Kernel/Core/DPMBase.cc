@@ -589,8 +589,7 @@ void DPMBase::writeSnapshot() {
 
 void DPMBase::writeFstat() {
     if (!fstatStream_) {
-        fstatStream_ = std::make_unique<std::ofstream>(outputPath(".fstat.tmp"), std::ios::trunc);
-        if (!*fstatStream_) inputError("cannot write " + outputPath(".fstat.tmp"));
+        fstatStream_ = std::make_unique<AtomicOFStream>(outputPath(".fstat"));
     }
     std::ostream& os = *fstatStream_;
     const Vec3 lo = box_.lo(), hi = box_.hi();
@@ -606,9 +605,8 @@ void DPMBase::writeFstat() {
 
 void DPMBase::finishFiles() {
     if (fstatStream_) {
-        fstatStream_->close();
+        fstatStream_->commit();  // InputError naming the file if it cannot be completed; the .tmp is removed
         fstatStream_.reset();
-        std::filesystem::rename(outputPath(".fstat.tmp"), outputPath(".fstat"));
     }
 }
 

@@ -39,6 +39,7 @@
 #include "Contacts/SpeciesTable.h"
 #include "Core/Parameters.h"
 #include "Core/Progress.h"
+#include "IO/AtomicFile.h"
 #include "Neighbours/NeighbourList.h"
 #include "Particles/ParticleData.h"
 #include "Walls/Wall.h"
@@ -240,7 +241,7 @@ private:
     // output state
     std::string eneBuffer_;
     std::unique_ptr<SnapshotWriter> snapshotWriter_;
-    std::unique_ptr<std::ofstream> fstatStream_;
+    std::unique_ptr<AtomicOFStream> fstatStream_;  ///< RUN.fstat.tmp until the run ends (removed if it fails)
     double lastFiniteRestartTime_ = -1;
     std::unique_ptr<ProgressReporter> progress_;
     std::string progressLabel_;

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <iostream>
 #include <string>
 
@@ -39,6 +40,10 @@ int runMain(const char* programName, const std::function<int()>& body) {
         return body();
     } catch (const InputError& e) {
         report(programName, e.what());
+        return kExitBadInput;
+    } catch (const std::bad_alloc&) {
+        // sizes come from the input (particle counts, grids, file headers): too large for this machine
+        report(programName, "out of memory: the input asks for more memory than this machine has");
         return kExitBadInput;
     } catch (const std::exception& e) {
         report(programName, e.what());

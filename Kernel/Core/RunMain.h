@@ -5,6 +5,7 @@
 //   }
 //
 // pdpm::InputError -> one line "PROGRAM: error: MESSAGE" on stderr, exit code 2 (kExitBadInput).
+// std::bad_alloc -> "PROGRAM: error: out of memory: ...", exit code 2 (the sizes come from the input).
 // other std::exception -> one line "PROGRAM: error: MESSAGE" on stderr, exit code 1.
 #pragma once
 #include <functional>

@@ -2,6 +2,7 @@
 // Text, numbers in shortest round-trip form (bitwise-exact), closed by a checksum line so that
 // truncated or edited files are refused.
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -119,16 +120,23 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     auto law = makeContactLaw(lawName);
     if (law->historySize() != hsize)
         inputError("restart file " + path + ": law '" + lawName + "' history size mismatch");
+    // values that pass the checksum but cannot be a run's state (an edited file) are refused here
+    const auto invalid = [&](const std::string& what) { inputError("restart file " + path + ": invalid " + what); };
     expect(is, "time", path);
     time_ = readDouble(is);
+    if (!is || !std::isfinite(time_) || time_ < 0) invalid("time");
     expect(is, "step", path);
     is >> step_;
+    if (!is || step_ < 0) invalid("step");
     expect(is, "dt", path);
     const double dtFile = readDouble(is);
+    if (!is || !std::isfinite(dtFile) || !(dtFile > 0)) invalid("dt");
     expect(is, "output", path);
     int outIndex = 0;
     is >> outIndex;
     const double nextOut = readDouble(is), outEvery = readDouble(is);
+    if (!is || outIndex < 0 || std::isnan(nextOut) || !(outEvery >= 0) || !std::isfinite(outEvery))
+        invalid("output record");
     if (!stateOnly) {
         outputIndex_ = outIndex;
         nextOutput_ = nextOut;
@@ -141,6 +149,8 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     expect(is, "damping", path);
     gammaBt_ = readDouble(is);
     gammaBr_ = readDouble(is);
+    if (!is || !isFinite(gravity_) || !std::isfinite(gammaBt_) || !std::isfinite(gammaBr_) || gammaBt_ < 0 || gammaBr_ < 0)
+        invalid("gravity or damping");
     box_.read(is);
     std::size_t np = 0;
     expect(is, "parameters", path);
@@ -196,7 +206,8 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         const double r = readDouble(is);
         int s = 0, fixed = 0;
         is >> s >> fixed;
-        if (!is || s < 0 || s >= ns || !(r > 0))
+        if (!is || s < 0 || s >= ns || !(r > 0) || !std::isfinite(r) || !isFinite(x) || !isFinite(v) || !isFinite(w) ||
+            !isFinite(f) || !isFinite(t))
             inputError("restart file " + path + ": malformed particle record " + std::to_string(i));
         const std::size_t k = particles_.add(x, r, species_[s].density, s, v, w, fixed != 0);
         particles_.f[k] = f;

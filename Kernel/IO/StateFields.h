@@ -2,7 +2,9 @@
 // (in its constructor), and saveDriverState / loadDriverState call save() and load(), so the list
 // of fields exists in one place. Values are written with fmt() (round-trip exact).
 #pragma once
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -30,18 +32,32 @@ public:
             std::visit([&](auto* p) { kv.emplace_back(f.name, fmt(static_cast<double>(*p))); }, f.target);
     }
 
-    /// Sets the field `key` from `value`; false if `key` is not a field. A malformed number is an
+    /// Sets the field `key` from `value`; false if `key` is not a field. A malformed number (not
+    /// finite; for an integer field not a whole number within its type; for a bool not 0 or 1) is an
     /// input error naming the field.
     bool load(const std::string& key, const std::string& value) const {
         for (const auto& f : fields_) {
             if (f.name != key) continue;
             double x = 0;
-            if (!parseDouble(value, x)) inputError("restart file: bad value of driver state '" + key + "'");
+            const auto bad = [&] { inputError("restart file: bad value of driver state '" + key + "': '" + value + "'"); };
+            if (!parseDouble(value, x)) bad();
             std::visit(
-                [x](auto* p) {
+                [&](auto* p) {
                     using T = std::remove_pointer_t<decltype(p)>;
-                    if constexpr (std::is_same_v<T, bool>) *p = x != 0;
-                    else *p = static_cast<T>(x);
+                    if constexpr (std::is_same_v<T, bool>) {
+                        if (x != 0 && x != 1) bad();
+                        *p = x != 0;
+                    } else if constexpr (std::is_integral_v<T>) {
+                        // whole numbers within the type (2^53 bounds what a double holds exactly)
+                        const double lo = std::is_signed_v<T> ? -9007199254740992.0 : 0.0;
+                        if (x != std::floor(x) || x < lo || x > 9007199254740992.0 ||
+                            x < static_cast<double>(std::numeric_limits<T>::lowest()) ||
+                            x > static_cast<double>(std::numeric_limits<T>::max()))
+                            bad();
+                        *p = static_cast<T>(x);
+                    } else {
+                        *p = static_cast<T>(x);
+                    }
                 },
                 f.target);
             return true;

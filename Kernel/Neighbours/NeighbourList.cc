@@ -119,6 +119,12 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     for (std::size_t k = 0; ok && k < wallParticle.size(); ++k) ok = wallParticle[k] < nParticles;
     for (const auto& ph : phases)
         for (int s : ph) ok = ok && s >= 0 && s + 1 < static_cast<int>(slabStart.size());
+    // an edited file (checksum resealed) must not bring NaN into the skin test or the contact springs
+    ok = ok && std::isfinite(skin_) && skin_ >= 0 && std::isfinite(skinUsed_) && skinUsed_ >= 0;
+    for (double h : history) ok = ok && std::isfinite(h);
+    for (double h : wallHistory) ok = ok && std::isfinite(h);
+    for (const Vec3& x : x0_) ok = ok && isFinite(x);
+    for (const Vec3& x : wallOffset0_) ok = ok && isFinite(x);
     if (!ok) inputError("restart: inconsistent neighbour-list section");
     for (auto& ph : phases) std::sort(ph.begin(), ph.end());  // older files: largest slab first
     countPhasePairs();

@@ -105,6 +105,36 @@ expect_refused 'OtherDriver' --restart foreign.restart
 
 expect_refused 'contact.law' --restart out/good.restart --contact_law hertz
 
+# edited values behind a valid (resealed) checksum: refused by name, not run
+# resealed NAME SED-EXPRESSION: out/good.restart edited by the expression and resealed, as NAME.restart
+resealed() {
+    cp out/good.restart "$1.restart"
+    sed -i "$2" "$1.restart"
+    cmp -s "$1.restart" out/good.restart && fail "$1.restart: the edit '$2' changed nothing"
+    "$probe" --rehash "$1.restart" || fail "rehash of $1.restart failed"
+}
+resealed time_neg 's/^time [^ ]* step/time -1 step/'
+expect_refused 'invalid time' --restart time_neg.restart
+resealed step_neg 's/ step [0-9]* dt / step -5 dt /'
+expect_refused 'invalid step' --restart step_neg.restart
+resealed output_nan 's/^output \([0-9]*\) [^ ]* /output \1 nan /'
+expect_refused 'invalid output' --restart output_nan.restart
+resealed gravity_nan 's/^gravity 0 0 -9.81/gravity 0 nan -9.81/'
+expect_refused 'gravity' --restart gravity_nan.restart
+resealed box_change_inf 's/^\(box .*\) 0$/\1 inf/'
+expect_refused 'box record' --restart box_change_inf.restart
+resealed skin_nan 's/^neighbours [^ ]* /neighbours nan /'
+expect_refused 'neighbour' --restart skin_nan.restart
+resealed x0_nan '/^x0 /{n;s/^[^ ]*/nan/}'
+expect_refused 'neighbour' --restart x0_nan.restart
+resealed velocity_inf '/^particles /{n;s/^\([^ ]* [^ ]* [^ ]*\) [^ ]*/\1 inf/}'
+expect_refused 'particle record 0' --restart velocity_inf.restart
+
+# the RUN.fstat output cannot be completed (a directory is in its place): exit 2, no .tmp left
+mkdir -p out/blocked.fstat
+expect_refused 'blocked.fstat' --name blocked --fstat 1
+rmdir out/blocked.fstat
+
 if [ "$failures" -ne 0 ]; then
     echo "BadInputProbe.sh: $failures failure(s)"
     exit 1

@@ -9,7 +9,7 @@
 // after the restart differed from about the 11th digit on. The same without ene output, split at an
 // output time (there the macro row needs records the kernel did not make; replacing the step's own
 // records made the next step's stress, and so the run, depend on the output flags). A restart whose
-// saved contact sum is malformed (edited, checksum resealed) is refused with exit code 2.
+// driver keys (contact sum, stage) are malformed (edited, checksum resealed) is refused with exit code 2.
 // "Builds up": the signed anisotropy (sigma_zz - sigma_xx)/p (z is compressed, x extended) rises by at
 // least 0.1 from the isotropic start (the last row before the shear) to its mean over eps_dev in
 // [0.15, 0.3], and the late s_dev exceeds 0.15. Until 2026-12-04 the check was "the mean s_dev over
@@ -129,20 +129,21 @@ int main() {
     for (const auto& r : u.rows)
         if (r[ut] < 0) t0 = r[u.column("time")];
     splitMatches("tri2", {}, std::to_string(t0 + 0.437 * (u.rows.back()[u.column("time")] - t0)), tri, "triaxial run");
-    // the saved contact sum edited into a malformed value (file resealed, so the checksum passes): refused
+    // driver keys edited into malformed values (file resealed, so the checksum passes): refused
     {
-        std::string text = readWholeText("tri2/DeviatoricD2.restart");
-        const std::size_t at = text.find("\ncontact_stress_sum ");
-        check(at != std::string::npos, "the final restart file holds the contact sum");
-        if (at != std::string::npos) {
-            for (const char* bad : {"1 2 oops", "1 2 3 4", "nan 0 0"}) {
-                const std::size_t from = at + 20, to = text.find('\n', from);
-                const std::string edited = pdpm::resealRestartText(text.substr(0, from) + bad + text.substr(to));
-                std::ofstream("tri2/edited.restart", std::ios::binary | std::ios::trunc) << edited;
-                check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart",
-                                               "tri2/edited.restart"}) == 2,
-                      std::string("a restart with contact_stress_sum '") + bad + "' is refused (exit code 2)");
-            }
+        const std::string text = readWholeText("tri2/DeviatoricD2.restart");
+        const std::pair<const char*, const char*> edits[] = {{"contact_stress_sum", "1 2 oops"}, {"contact_stress_sum", "1 2 3 4"},
+                                                             {"contact_stress_sum", "nan 0 0"},  {"stage", "99"},
+                                                             {"stage_begun", "2"},               {"stage_start", "nan"}};
+        for (const auto& [key, bad] : edits) {
+            const std::size_t at = text.find("\n" + std::string(key) + " ");
+            check(at != std::string::npos, std::string("the final restart file holds ") + key);
+            if (at == std::string::npos) continue;
+            const std::size_t from = at + 2 + std::string(key).size(), to = text.find('\n', from);
+            std::ofstream("tri2/edited.restart", std::ios::binary | std::ios::trunc)
+                << pdpm::resealRestartText(text.substr(0, from) + bad + text.substr(to));
+            check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart", "tri2/edited.restart"}) == 2,
+                  std::string("a restart with ") + key + " '" + bad + "' is refused (exit code 2)");
         }
     }
     // without ene, vtk and fstat output the macro rows need records the kernel does not make; the

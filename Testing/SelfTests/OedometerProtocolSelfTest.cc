@@ -4,7 +4,8 @@
 //     the reload reaches its target again; during the creep step (constant applied stress) the stress
 //     stays within 3 % of the creep stress while the strain grows (relaxing contacts creep).
 //  2. Restart: the same protocol stopped half-way (--time_max) and resumed from RUN.restart writes a
-//     recording byte-identical to the straight run's.
+//     recording byte-identical to the straight run's; its half-way restart file with a driver key
+//     edited into an impossible value (resealed) is refused with exit code 2.
 //  3. Cylindrical mould with wall friction: the mould wall carries part of the load (bottom stress
 //     below piston stress plus the bed's weight) but no more than Janssen's fully mobilised share,
 //     and the lateral stress on the mould is positive and below the axial stress.
@@ -12,6 +13,7 @@
 #include <numbers>
 
 #include "IO/AtomicFile.h"
+#include "IO/RestartSeal.h"
 #include "OedometerSelfTestCommon.h"
 
 using namespace pdpm;
@@ -77,6 +79,25 @@ int main() {
         auto args = common;
         args.insert(args.end(), {"--name", "part", "--restart_output", "1", "--time_max", fmt(0.5 * demEnd)});
         ok &= check(oedometer_selftest::runDriver(a, args) == 0, "first half");
+        const std::string half = readWholeFile("part.restart");
+        // the machine's state edited into values no run can have (file resealed, so the checksum
+        // passes): refused with exit code 2 before anything runs
+        const std::string bottomWall = [&] {
+            const std::size_t at = half.find("\nbottomWall ");
+            return at == std::string::npos ? std::string("?") : half.substr(at + 12, half.find('\n', at + 1) - at - 12);
+        }();
+        const std::pair<std::string, std::string> edits[] = {
+            {"stepIndex", "0.5"}, {"settling", "2"}, {"pistonWall", bottomWall}, {"recRow", "1"}, {"labScale", "-1"}};
+        for (const auto& [key, bad] : edits) {
+            const std::size_t at = half.find("\n" + key + " ");
+            ok &= check(at != std::string::npos, "part.restart holds " + key);
+            if (at == std::string::npos) continue;
+            const std::size_t from = at + 2 + key.size(), to = half.find('\n', from);
+            writeWholeFile("edited.restart", resealRestartText(half.substr(0, from) + bad + half.substr(to)));
+            OedometerRelaxation e;
+            ok &= check(oedometer_selftest::runDriver(e, {"--restart", "edited.restart", "--name", "edited", "--quiet"}) == 2,
+                        "a restart with " + key + " '" + bad + "' is refused (exit code 2)");
+        }
         OedometerRelaxation b;
         ok &= check(oedometer_selftest::runDriver(b, {"--restart", "part.restart", "--name", "part", "--time_max", "1e30", "--quiet"}) == 0,
                     "resumed from part.restart");

@@ -517,6 +517,16 @@ TEST(ExplainInput, BadInputsAreInputErrors) {
     const Recording r = readRecording(d + "/ok.csv", p);
     EXPECT_EQ(r.size(), 30u);
     EXPECT_THROW(checkConsistency(r, p), InputError);  // 5000 s protocol vs 29 s recording
+    // a stress far beyond any powder test (its square overflows) is refused, not fitted
+    std::string csv3 = csv2;
+    csv3.replace(csv3.find(",500\n"), 5, ",1e300\n");
+    writeWholeFile(d + "/huge.csv", csv3);
+    try {
+        readRecording(d + "/huge.csv", p);
+        ADD_FAILURE() << "a stress of 1e300 Pa accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("axial_stress_Pa 1e+300 (sample 6)"), std::string::npos) << e.what();
+    }
     EXPECT_EQ(runExplainCommand({"--recording", d + "/ok.csv", "--protocol", d + "/ok.json", "--output", d + "/out"}), 2);
     EXPECT_EQ(runExplainCommand({"--recording", d + "/missing.csv", "--protocol", d + "/ok.json", "--output", d + "/out"}), 2);
     EXPECT_EQ(runExplainCommand({"--protocol", d + "/ok.json", "--output", d + "/out"}), 2);

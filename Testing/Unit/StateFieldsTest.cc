@@ -46,6 +46,30 @@ TEST(StateFields, UnknownKeyIsLeftToTheCallerAndBadNumberIsAnInputError) {
     EXPECT_EQ(x, 1);
     EXPECT_THROW(f.load("x", "2.0abc"), InputError);
     EXPECT_THROW(f.load("x", ""), InputError);
+    EXPECT_THROW(f.load("x", "nan"), InputError);
+}
+
+TEST(StateFields, IntegerAndBoolFieldsTakeOnlyTheirValues) {
+    // an edited restart file must not reach the member through a silent conversion
+    std::size_t index = 3;
+    long neg = 0;
+    int small = 0;
+    bool flag = false;
+    StateFields f;
+    f.add("index", index).add("neg", neg).add("small", small).add("flag", flag);
+    for (const char* bad : {"0.5", "-1", "1e300", "1e19"}) EXPECT_THROW(f.load("index", bad), InputError) << bad;
+    EXPECT_THROW(f.load("neg", "2.5"), InputError);
+    EXPECT_THROW(f.load("small", "3e9"), InputError);  // beyond int
+    for (const char* bad : {"2", "-1", "0.5"}) EXPECT_THROW(f.load("flag", bad), InputError) << bad;
+    EXPECT_EQ(index, 3u);  // untouched by the refused values
+    EXPECT_TRUE(f.load("index", "7"));
+    EXPECT_TRUE(f.load("neg", "-7"));
+    EXPECT_TRUE(f.load("small", "-2147483648"));
+    EXPECT_TRUE(f.load("flag", "1"));
+    EXPECT_EQ(index, 7u);
+    EXPECT_EQ(neg, -7);
+    EXPECT_EQ(small, -2147483648);
+    EXPECT_TRUE(flag);
 }
 
 TEST(StateFields, NumberListsRoundTrip) {

@@ -3,7 +3,9 @@
 # to v_max = 0.82 and back (preset thesis-ch2, N = 9261, frictionless), against the scaled time
 # t_s = t/T of the cycle, for the periods T of PERIODS (seconds; the thesis: 5000 us and 50000 us).
 # Usage: chapter2-fig2_3.sh BIN_DIR [THREADS]        (about 25 min per 5000 us on one thread)
-# Environment: PERIODS (default "0.005"), SKIP_RUNS=1 (analyse the files already in fig2_3/).
+# Environment: PERIODS (default "0.005"), RELAX (relaxation at v0 and at v_1, seconds; default the
+#   preset's 0.0005; 0.002 gives a static start, E_k/E_p < 1e-3), SKIP_RUNS=1 (analyse the files
+#   already in fig2_3/).
 # Writes fig2_3/table.txt (share of the cycle's rows with E_k/E_p <= 1e-3, overall, on loading and
 # on unloading, for the total and for the fluctuation kinetic energy; the ratio at the start of the
 # cycle and its median) and fig2_3/fig2_3.png (log E_k/E_p against t_s). No pass/fail gate: the
@@ -11,11 +13,13 @@
 set -euo pipefail
 bin="${1:?usage: chapter2-fig2_3.sh BIN_DIR [THREADS]}"; threads="${2:-1}"
 periods="${PERIODS:-0.005}"
+relax=()
+[[ -n "${RELAX:-}" ]] && relax=(--relax "$RELAX")
 mkdir -p fig2_3
 if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
   for T in $periods; do
     "$bin/IsotropicCompression" --preset thesis-ch2 --v_i 0.673 --period "$T" --threads "$threads" --quiet --vtk 0 \
-      --save_fractions "" --output fig2_3 --name "ISO_T$T"
+      --save_fractions "" --output fig2_3 --name "ISO_T$T" "${relax[@]}"
   done
 fi
 python3 - $periods <<'PY' | tee fig2_3/table.txt

@@ -386,7 +386,7 @@ void readModelFile(const std::string& path, ExplainOptions& opt) {
     }
     if (const Json* t = j.find("bic_threshold")) {
         const double v = t->asNumber(path + ": bic_threshold");
-        if (!(v >= 2)) inputError(path + ": bic_threshold must be >= 2");
+        if (!(v >= 2 && v <= 1e6)) inputError(path + ": bic_threshold must be in [2, 1e6]");
         opt.bicThreshold = v;
     }
 }

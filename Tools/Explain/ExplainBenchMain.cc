@@ -11,6 +11,7 @@
 
 #include "Cli.h"
 #include "Core/Error.h"
+#include "Core/Parameters.h"
 #include "DemCases.h"
 #include "Explain.h"
 #include "ExplainBench.h"
@@ -61,6 +62,9 @@ int main(int argc, char** argv) {
         const auto snrs = tools::parseNumberList("snr", snrText);
         const auto pairSnrs = tools::parseNumberList("pair_snr", pairSnrText);  // checked before the long run
         const auto demSnrs = tools::parseNumberList("dem_snr", demSnrText);
+        for (const auto& [flag, list] : {std::pair{"snr", &snrs}, {"pair_snr", &pairSnrs}, {"dem_snr", &demSnrs}})
+            for (double v : *list)
+                if (!(v > 0 && v <= 1e6)) inputError(std::string("--") + flag + ": " + formatDoubleShort(v) + " is not a SNR in (0, 1e6]");
         // comma- or space-separated words
         const auto words = [](std::string text) {
             for (char& c : text)

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "Core/Error.h"
+#include "Core/Parameters.h"
 #include "IO/Csv.h"
 #include "IO/Json.h"
 #include "Recording.h"
@@ -131,6 +132,17 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
             r.step.push_back(static_cast<int>(st[i]));
         }
     }
+    // magnitudes far beyond any powder test would overflow the squared residuals of the fits
+    const auto bounded = [&](const std::vector<double>& col, const char* name, double limit, const char* unit) {
+        for (std::size_t i = 0; i < col.size(); ++i)
+            if (!(std::abs(col[i]) <= limit))
+                inputError(path + ": " + name + " " + formatDoubleShort(col[i]) + " (sample " + std::to_string(i + 1) +
+                           ") is beyond +-" + formatDoubleShort(limit) + " " + unit);
+    };
+    bounded(r.t, "time_s", 1e9, "s");
+    bounded(r.stress, "axial_stress_Pa", 1e12, "Pa");
+    bounded(r.lateral, "lateral_stress_Pa", 1e12, "Pa");
+    bounded(r.bottom, "bottom_stress_Pa", 1e12, "Pa");
     double smax = 0, emin = r.strain[0], emax = r.strain[0];
     for (std::size_t i = 0; i < r.size(); ++i) {
         smax = std::max(smax, std::abs(r.stress[i]));

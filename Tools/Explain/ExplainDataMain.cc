@@ -208,6 +208,16 @@ int main(int argc, char** argv) {
     return tools::runTool("pdpm-explain-data", [&] {
         if (argc < 2) inputError("usage: pdpm-explain-data generate|dem-case|thesis|import-kfs|import-cheng [--help]");
         const std::string cmd = argv[1];
+        if (cmd == "--help" || cmd == "-h") {
+            std::cout << "pdpm-explain-data SUB-COMMAND [options]: inputs for pdpm-explain (Documentation/tools-explain.md)\n"
+                         "  generate      a surrogate recording with a concealed mechanism (truth stored separately)\n"
+                         "  dem-case      a recording made by the OedometerRelaxation driver with a mechanism switched on\n"
+                         "  thesis        the thesis' cocoa / limestone hold curves (Tables 4.4/4.5) as recordings\n"
+                         "  import-kfs    a Karlsruhe fine sand oedometer file as a recording\n"
+                         "  import-cheng  the glass-bead oedometer with lateral stress as a recording\n"
+                         "pdpm-explain-data SUB-COMMAND --help lists the sub-command's options.\n";
+            return 0;
+        }
         std::vector<std::string> args(argv + 2, argv + argc);
         tools::Cli cli("pdpm-explain-data " + cmd, "inputs for pdpm-explain (see Documentation/tools-explain.md)");
         std::string output, input, truth, kind, material, device, dataDir;

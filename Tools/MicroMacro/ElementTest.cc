@@ -16,7 +16,7 @@ namespace pdpm {
 // ---- parameters ------------------------------------------------------------------------------------
 ElementTest::ElementTest(const std::string& name, const std::string& description) : DPMBase(name, description) {
     auto& p = parameters();
-    p.add("particles", &n_, 1000L, "-", "number of particles N", Range::atLeast(10));
+    p.add("particles", &n_, 1000L, "-", "number of particles N (at most 1e8: 32-bit pair indices)", Range::closed(10, 1e8));
     p.add("r_min", &rMin_, 0.5e-3, "m", "smallest radius (uniform distribution, Sec. 2.2.2)", Range::positive());
     p.add("r_max", &rMax_, 1.5e-3, "m", "largest radius", Range::positive());
     p.add("density", &density_, 2000.0, "kg/m^3", "particle density rho", Range::positive());
@@ -202,6 +202,9 @@ void ElementTest::actionsOnRestart() {
     setTime(0);
     buildStages();
     setTime(t);
+    if (savedStage > stages_.size())
+        inputError("restart file: stage " + std::to_string(savedStage) + " but this run has " + std::to_string(stages_.size()) +
+                   " stages");
     stage_ = savedStage;
     begun_ = savedBegun;
     stageStart_ = savedStart;

@@ -1,7 +1,10 @@
 // pdpm-recording-check: validates recording files (Documentation/recording-format.md).
 //   pdpm-recording-check FILE...      FILE.csv: time series; FILE.json: protocol
-// Prints every problem as "FILE:LINE: message" (LINE 0: the file as a whole) and exits 2 if any file
-// is malformed; prints "FILE: ok ..." per valid file and exits 0 otherwise.
+// Prints each problem as "FILE:LINE: message" (LINE 0: the file as a whole; at most 10 per file, then
+// a count of the rest; bytes outside printable ASCII as \xNN) and exits 2 if any file is malformed;
+// prints "FILE: ok ..." per valid file and exits 0 otherwise.
+#include <algorithm>
+#include <cstdio>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -12,6 +15,24 @@
 #include "Recording.h"
 
 using namespace pdpm;
+
+namespace {
+constexpr std::size_t kMaxProblemsShown = 10;
+
+std::string printable(const std::string& text) {
+    std::string out;
+    for (unsigned char c : text) {
+        if (c >= 0x20 && c < 0x7f) {
+            out += static_cast<char>(c);
+        } else {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02x", c);
+            out += buf;
+        }
+    }
+    return out;
+}
+} // namespace
 
 int main(int argc, char** argv) {
     return tools::runTool("pdpm-recording-check", [&]() -> int {
@@ -41,7 +62,13 @@ int main(int argc, char** argv) {
             }
             recording::Recording r;
             const auto problems = recording::checkRecording(readWholeFile(f), &r);
-            for (const auto& p : problems) std::cerr << f << ":" << p.line << ": " << p.message << '\n';
+            // a compiler-style list, capped (a binary or wrongly encoded file would give one line per row)
+            // and with control and non-ASCII bytes escaped (they would garble the terminal)
+            const std::size_t shown = std::min<std::size_t>(problems.size(), kMaxProblemsShown);
+            for (std::size_t k = 0; k < shown; ++k)
+                std::cerr << f << ":" << problems[k].line << ": " << printable(problems[k].message) << '\n';
+            if (problems.size() > shown)
+                std::cerr << f << ": ... and " << problems.size() - shown << " more problems (not shown)\n";
             if (!problems.empty()) {
                 bad = true;
                 continue;
