@@ -37,8 +37,12 @@ ContactParameters readContactParameters(std::istream& is) {
     int d = 0;
     is >> d;
     p.defined = d != 0;
-    forEachField(p, [&](double& v) { v = readDouble(is); });
-    if (!is) inputError("restart: malformed contact parameters");
+    bool nan = false;
+    forEachField(p, [&](double& v) {
+        v = readDouble(is);
+        nan = nan || std::isnan(v);
+    });
+    if (!is || nan) inputError("restart: malformed contact parameters");
     return p;
 }
 

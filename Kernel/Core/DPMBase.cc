@@ -477,11 +477,15 @@ void DPMBase::reportNonFinite() {
     while (first < n && std::isfinite(P.x[first].x + P.x[first].y + P.x[first].z + P.v[first].x + P.v[first].y +
                                       P.v[first].z + P.w[first].x + P.w[first].y + P.w[first].z))
         ++first;
-    finishFiles();
     std::string where = lastFiniteRestartTime_ >= 0
                             ? "; last finite state (t = " + fmt(lastFiniteRestartTime_) + " s) is in " + outputPath(".restart")
                             : "";
- inputError("NaN in the state of particle " + std::to_string(first) + " at t = " + fmt(time_) + " s (step " +
+    try {
+        finishFiles();  // the contact blocks written so far are kept
+    } catch (const InputError& e) {
+        where += std::string("; ") + e.what();  // the NaN stays the message's subject
+    }
+    inputError("NaN in the state of particle " + std::to_string(first) + " at t = " + fmt(time_) + " s (step " +
                std::to_string(step_) + ")" + where);
 }
 

@@ -241,7 +241,7 @@ private:
     // output state
     std::string eneBuffer_;
     std::unique_ptr<SnapshotWriter> snapshotWriter_;
-    std::unique_ptr<AtomicOFStream> fstatStream_;  ///< RUN.fstat.tmp until the run ends (removed if it fails)
+    std::unique_ptr<AtomicOFStream> fstatStream_;  ///< RUN.fstat.tmp until the run ends or stops on NaN (then renamed); removed if the run fails otherwise
     double lastFiniteRestartTime_ = -1;
     std::unique_ptr<ProgressReporter> progress_;
     std::string progressLabel_;

@@ -135,7 +135,10 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     int outIndex = 0;
     is >> outIndex;
     const double nextOut = readDouble(is), outEvery = readDouble(is);
-    if (!is || outIndex < 0 || std::isnan(nextOut) || !(outEvery >= 0) || !std::isfinite(outEvery))
+    // the next output lies ahead of the restart time (a file written by a run always has it there),
+    // and the interval moves it on: otherwise the output schedule never advances
+    if (!is || outIndex < 0 || !std::isfinite(nextOut) || !(nextOut > time_ - outEvery - dtFile) || !(outEvery >= 0) ||
+        !std::isfinite(outEvery) || (outEvery > 0 && !(nextOut + outEvery > nextOut)))
         invalid("output record");
     if (!stateOnly) {
         outputIndex_ = outIndex;
@@ -217,6 +220,7 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     std::size_t nkv = 0;
     expect(is, "driver", path);
     is >> nkv;
+    if (!is || nkv > body.size()) inputError("restart file " + path + ": malformed driver section");  // a line per key
     std::vector<std::pair<std::string, std::string>> kv(nkv);
     for (auto& [k, v] : kv) {
         is >> k;

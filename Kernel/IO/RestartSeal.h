@@ -9,8 +9,8 @@ namespace pdpm {
 /// The line "end %016x\n" for `body` (the file's text up to and including its last newline).
 std::string restartChecksumLine(const std::string& body);
 
-/// `text` (a restart file, sealed or not) with its checksum line replaced by one for the rest;
-/// empty if `text` has no "\nend " line to replace.
+/// `text` (a restart file) with its checksum line, valid or not, replaced by the right one for the
+/// rest; empty if `text` has no "\nend " line to replace.
 std::string resealRestartText(const std::string& text);
 
 } // namespace pdpm

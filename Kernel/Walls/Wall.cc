@@ -58,7 +58,9 @@ std::unique_ptr<Wall> Wall::read(std::istream& is) {
     w->motion_ = WallMotion::read(is);
     w->force = readVec3(is);
     w->torque = readVec3(is);
-    if (!is) inputError("restart: malformed wall record of type " + t);
+    // the geometry may hold inf (an infinite cylinder); the motion state and the reaction may not
+    if (!is || !isFinite(w->offset_) || !isFinite(w->velocity_) || !isFinite(w->force) || !isFinite(w->torque))
+        inputError("restart: malformed wall record of type " + t);
     return w;
 }
 

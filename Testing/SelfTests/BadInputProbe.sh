@@ -119,14 +119,22 @@ resealed step_neg 's/ step [0-9]* dt / step -5 dt /'
 expect_refused 'invalid step' --restart step_neg.restart
 resealed output_nan 's/^output \([0-9]*\) [^ ]* /output \1 nan /'
 expect_refused 'invalid output' --restart output_nan.restart
+resealed output_minf 's/^output \([0-9]*\) [^ ]* /output \1 -inf /'
+expect_refused 'invalid output' --restart output_minf.restart
+resealed output_past 's/^output \([0-9]*\) [^ ]* /output \1 -1e20 /'
+expect_refused 'invalid output' --restart output_past.restart
 resealed gravity_nan 's/^gravity 0 0 -9.81/gravity 0 nan -9.81/'
 expect_refused 'gravity' --restart gravity_nan.restart
 resealed box_change_inf 's/^\(box .*\) 0$/\1 inf/'
 expect_refused 'box record' --restart box_change_inf.restart
+resealed wall_velocity_nan 's/^\(plane 0 - \([^ ]* \)\{9\}\)[^ ]*/\1nan/'
+expect_refused 'wall record' --restart wall_velocity_nan.restart
+resealed stiffness_nan '/^species /{n;n;s/^0 0 1 [^ ]*/0 0 1 nan/}'
+expect_refused 'contact parameters' --restart stiffness_nan.restart
 resealed skin_nan 's/^neighbours [^ ]* /neighbours nan /'
-expect_refused 'neighbour' --restart skin_nan.restart
+expect_refused 'inconsistent neighbour' --restart skin_nan.restart
 resealed x0_nan '/^x0 /{n;s/^[^ ]*/nan/}'
-expect_refused 'neighbour' --restart x0_nan.restart
+expect_refused 'inconsistent neighbour' --restart x0_nan.restart
 resealed velocity_inf '/^particles /{n;s/^\([^ ]* [^ ]* [^ ]*\) [^ ]*/\1 inf/}'
 expect_refused 'particle record 0' --restart velocity_inf.restart
 

@@ -86,6 +86,7 @@ int main() {
             const std::size_t at = half.find("\nbottomWall ");
             return at == std::string::npos ? std::string("?") : half.substr(at + 12, half.find('\n', at + 1) - at - 12);
         }();
+        ok &= check(bottomWall != "?", "part.restart holds bottomWall");
         const std::pair<std::string, std::string> edits[] = {
             {"stepIndex", "0.5"}, {"settling", "2"}, {"pistonWall", bottomWall}, {"recRow", "1"}, {"labScale", "-1"}};
         for (const auto& [key, bad] : edits) {

@@ -19,7 +19,7 @@ mkdir -p fig2_3
 if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
   for T in $periods; do
     "$bin/IsotropicCompression" --preset thesis-ch2 --v_i 0.673 --period "$T" --threads "$threads" --quiet --vtk 0 \
-      --save_fractions "" --output fig2_3 --name "ISO_T$T" "${relax[@]}"
+      --save_fractions "" --output fig2_3 --name "ISO_T$T" ${relax[@]+"${relax[@]}"}
   done
 fi
 python3 - $periods <<'PY' | tee fig2_3/table.txt

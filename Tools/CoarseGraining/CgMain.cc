@@ -50,6 +50,8 @@ int run(int argc, char** argv) {
     cli.add("threads", &threads, 0, "OpenMP threads (0: default)", 0, 4096);
     if (!cli.parse(argc, argv, std::cout)) return 0;
     if (inputs.empty()) inputError("--input: no input files given");
+    requireNonEmpty("output", output);
+    requireNonEmpty("name", name);
     if (threads > 0) omp_set_num_threads(threads);
 
     CgConfig cfg;
@@ -81,6 +83,9 @@ int run(int argc, char** argv) {
     }
     if (!cylindrical && nx == 0 && ny == 0 && nz == 0)
         inputError("empty grid: give at least one of --nx, --ny, --nz > 0");
+    if (cgCells(cfg) > double(kCgMaxCells))
+        inputError(std::string(cylindrical ? "--nr × --nz" : "--nx × --ny × --nz") + " = " + fmt(cgCells(cfg)) +
+                   " cells: more than the limit of " + fmt(double(kCgMaxCells)) + " (about 1.5 kB of memory per cell)");
 
     std::vector<Frame> frames = loadFrames(inputs);
     std::vector<Frame> used;

@@ -4,6 +4,7 @@
 #include "OutputFiles.h"
 
 #include <algorithm>
+#include <new>
 #include <cmath>
 #include <numbers>
 #include <ostream>
@@ -265,13 +266,24 @@ struct CoarseGrainer::Impl {
                 planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
                 for (int k : planes) bucket[k].push_back(int(it));
             }
+            bool outOfMemory = false;  // an exception must not leave a parallel region: thrown after it
 #pragma omp parallel
             {
-                std::vector<double> Wp(std::size_t(nA) * nB, 0.0);
-                std::vector<char> mark(std::size_t(nA) * nB, 0);
+                std::vector<double> Wp;
+                std::vector<char> mark;
                 std::vector<int> touched;
+                bool ok = true;
+                try {
+                    Wp.assign(std::size_t(nA) * nB, 0.0);
+                    mark.assign(std::size_t(nA) * nB, 0);
+                } catch (const std::bad_alloc&) {
+                    ok = false;
+#pragma omp atomic write
+                    outOfMemory = true;
+                }
 #pragma omp for schedule(dynamic, 1)
                 for (int k = 0; k < nP; ++k) {
+                    if (!ok) continue;
                     for (int it : bucket[k]) {
                         touched.clear();
                         for (int q = items.qBegin[it]; q < items.qBegin[it + 1]; ++q) {
@@ -305,6 +317,7 @@ struct CoarseGrainer::Impl {
                     }
                 }
             }
+            if (outOfMemory) throw std::bad_alloc();
         }
     }
 
@@ -341,11 +354,19 @@ struct CoarseGrainer::Impl {
 
 // ---- CoarseGrainer ------------------------------------------------------------------------------
 
+double cgCells(const CgConfig& cfg) {
+    const auto n = [&](int a) { return double(std::max(cfg.n[a], 1)); };
+    return cfg.cylindrical ? n(0) * n(2) : n(0) * n(1) * n(2);
+}
+
 CoarseGrainer::CoarseGrainer(const CgConfig& cfg) : cfg_(cfg) {
     if (!(cfg_.width > 0) || !std::isfinite(cfg_.width))
-        inputError("kernel width must be > 0 (got " + fmt(cfg_.width) + ")");
+        inputError("kernel width must be finite and > 0 (got " + fmt(cfg_.width) + ")");
     for (int a = 0; a < 3; ++a)
         if (cfg_.n[a] < 0) inputError("grid sizes must be ≥ 0");
+    if (cgCells(cfg_) > double(kCgMaxCells))
+        inputError("grid of " + fmt(cgCells(cfg_)) + " cells: more than the limit of " + fmt(double(kCgMaxCells)) +
+                   " cells (about 1.5 kB each)");
     if (cfg_.cylindrical) {
         if (cfg_.n[0] <= 0) inputError("empty grid: the cylindrical grid needs at least one radial cell");
         if (cfg_.axis < 0 || cfg_.axis > 2) inputError("cylinder axis must be x, y or z");

@@ -46,6 +46,12 @@ struct CgConfig {
     int quadratureMax = 32;           ///< max Gauss points along a branch vector
 };
 
+/// Largest grid (cells) a CoarseGrainer accepts: pdpm-cg needs about 1.5 kB per cell (the sums, two
+/// results and the .vti copies of the fields), so 1e7 cells take about 15 GB.
+inline constexpr long kCgMaxCells = 10'000'000;
+/// Cells of the configured grid (averaged directions count as one cell; cylindrical: n[0] × n[2]).
+double cgCells(const CgConfig& cfg);
+
 /// Tensor components: symmetric 6 = xx xy xz yy yz zz; full 9 = xx xy xz yx yy yz zx zy zz.
 using Sym6 = std::array<double, 6>;
 using Tensor9 = std::array<double, 9>;

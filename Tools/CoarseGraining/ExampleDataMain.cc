@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
         std::string out;
         cli.add("output", &out, ".", "output directory");
         if (!cli.parse(argc, argv, std::cout)) return 0;
+        requireNonEmpty("output", out);
         ensureDirectory(out);
         // ---- static column
         const int nxy = 4, nz = 24;

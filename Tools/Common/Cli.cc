@@ -7,18 +7,24 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <new>
 #include <sstream>
 
 namespace pdpm::tools {
 
 namespace {
 
-double toDouble(const std::string& flag, const std::string& s) {
+/// "--name" for a flag given as "name" or "--name".
+std::string flagText(const std::string& flag) { return flag.rfind("--", 0) == 0 ? flag : "--" + flag; }
+
+/// The number in `s`; strtod also reads "inf" and "nan", refused unless `allowInf` (then ±inf only).
+double toDouble(const std::string& flag, const std::string& s, bool allowInf = false) {
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(s.c_str(), &end);
     if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE)
-        inputError("--" + flag + ": '" + s + "' is not a number");
+        inputError(flagText(flag) + ": '" + s + "' is not a number");
+    if (std::isnan(v) || (std::isinf(v) && !allowInf)) inputError(flagText(flag) + ": '" + s + "' is not a finite number");
     return v;
 }
 
@@ -41,8 +47,8 @@ void Cli::add(const std::string& name, double* target, double def, const std::st
     d << def;
     Opt o{name, help + "  " + rangeText(lo, hi, loOpen, hiOpen), unit, d.str(), "double", {}, false};
     o.set = [=](const std::string& s) {
-        const double v = toDouble(name, s);
-        const bool ok = !std::isnan(v) && (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
+        const double v = toDouble(name, s, std::isinf(def));  // ±inf only where it is the default ("no limit")
+        const bool ok = (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
         if (!ok) inputError("--" + name + ": value " + s + " out of range " + rangeText(lo, hi, loOpen, hiOpen));
         *target = v;
     };
@@ -167,7 +173,7 @@ bool Cli::parse(const std::vector<std::string>& args, std::ostream& out) {
 }
 
 void Cli::printHelp(std::ostream& os) const {
-    os << "Usage: " << program_ << " [--name value]…\n" << description_ << "\n\nOptions:\n";
+    os << "Usage: " << program_ << " [--flag value]…\n" << description_ << "\n\nOptions:\n";
     std::size_t w = 0;
     for (const Opt& o : opts_) w = std::max(w, o.name.size());
     for (const Opt& o : opts_) {
@@ -188,6 +194,10 @@ int runTool(const std::string& program, const std::function<int()>& body) {
             if (c == '\n') c = ' ';
         std::cerr << program << ": error: " << msg << std::endl;
         return kExitBadInput;
+    } catch (const std::bad_alloc&) {
+        // sizes come from the input (particle counts, grids, file headers): too large for this machine
+        std::cerr << program << ": error: out of memory: the input asks for more memory than this machine has" << std::endl;
+        return kExitBadInput;
     } catch (const std::exception& e) {
         std::cerr << program << ": internal error: " << e.what() << std::endl;
         return 1;
@@ -203,6 +213,10 @@ std::vector<double> parseNumberList(const std::string& flag, const std::string& 
     std::string tok;
     while (is >> tok) out.push_back(toDouble(flag, tok));
     return out;
+}
+
+void requireNonEmpty(const std::string& flag, const std::string& value) {
+    if (value.empty()) inputError(flagText(flag) + ": must not be empty");
 }
 
 } // namespace pdpm::tools

@@ -17,7 +17,8 @@ public:
 
     Cli(std::string program, std::string description);
 
-    /// Numeric option with allowed range lo..hi (open ends when loOpen/hiOpen).
+    /// Numeric option with allowed range lo..hi (open ends when loOpen/hiOpen). NaN is refused, and
+    /// ±inf too unless the default is infinite (e.g. --tmax inf, "no limit").
     void add(const std::string& name, double* target, double def, const std::string& unit, const std::string& help,
              double lo = -inf, double hi = inf, bool loOpen = false, bool hiOpen = false);
     void add(const std::string& name, int* target, int def, const std::string& help, int lo, int hi);
@@ -46,11 +47,16 @@ private:
     std::vector<Opt> opts_;
 };
 
-/// Runs `body`; InputError → one line "PROGRAM: error: MESSAGE" on stderr, exit code 2; any other
+/// Runs `body`; InputError → one line "PROGRAM: error: MESSAGE" on stderr, exit code 2; std::bad_alloc
+/// → "PROGRAM: error: out of memory: …", exit code 2 (the sizes come from the input); any other
 /// exception → "PROGRAM: internal error: …", exit code 1.
 int runTool(const std::string& program, const std::function<int()>& body);
 
-/// Splits "a,b,c" (commas or spaces) into doubles; InputError naming `flag` if malformed.
+/// Splits "a,b,c" (commas or spaces) into finite doubles; InputError naming `flag` ("name" or
+/// "--name") if malformed, NaN or infinite.
 std::vector<double> parseNumberList(const std::string& flag, const std::string& text);
+
+/// InputError "--flag: must not be empty" for an empty value (output directories, file names).
+void requireNonEmpty(const std::string& flag, const std::string& value);
 
 } // namespace pdpm::tools

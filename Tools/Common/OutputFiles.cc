@@ -1,8 +1,11 @@
 #include "OutputFiles.h"
 
 #include "Core/Error.h"
+#include "IO/AtomicFile.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -11,6 +14,7 @@
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkXMLImageDataWriter.h>
 #endif
@@ -20,17 +24,32 @@ namespace fs = std::filesystem;
 namespace pdpm::tools {
 
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& fill) {
+    AtomicOFStream os(path);  // writes PATH.tmp; removes it again unless commit() succeeds
+    fill(os);
+    os.commit();
+}
+
+void writeThroughTmp(const std::string& path, const std::function<bool(const std::string& tmp)>& write) {
     const std::string tmp = path + ".tmp";
+    struct RemoveTmp {  // on every way out but the successful rename
+        const std::string& p;
+        bool keep = false;
+        ~RemoveTmp() {
+            std::error_code ec;
+            if (!keep) fs::remove(p, ec);
+        }
+    };
     {
-        std::ofstream os(tmp);
-        if (!os) inputError(path + ": cannot open for writing");
-        fill(os);
-        os.flush();
-        if (!os) inputError(path + ": write failed");
+        errno = 0;
+        std::ofstream probe(tmp);  // the writer's own failure to open is not always reported
+        if (!probe) inputError("cannot open '" + tmp + "' for writing" + (errno ? ": " + std::string(std::strerror(errno)) : ""));
     }
+    RemoveTmp guard{tmp};
+    if (!write(tmp)) inputError(path + ": cannot write");
     std::error_code ec;
     fs::rename(tmp, path, ec);
-    if (ec) inputError(path + ": cannot rename from " + tmp + ": " + ec.message());
+    if (ec) inputError("cannot rename '" + tmp + "' to '" + path + "': " + ec.message());
+    guard.keep = true;
 }
 
 void ensureDirectory(const std::string& dir) {
@@ -74,15 +93,14 @@ void writeVti(const std::string& path, const int dims[3], const double origin[3]
     t->SetName("TimeValue");
     t->InsertNextValue(time);
     img->GetFieldData()->AddArray(t);
-    const std::string tmp = path + ".tmp";
-    vtkNew<vtkXMLImageDataWriter> w;
-    w->SetFileName(tmp.c_str());
-    w->SetInputData(img);
-    w->SetDataModeToAppended();
-    if (w->Write() != 1) inputError(path + ": cannot write");
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) inputError(path + ": cannot rename from " + tmp + ": " + ec.message());
+    vtkObject::GlobalWarningDisplayOff();  // failures are reported in one line below
+    writeThroughTmp(path, [&](const std::string& tmp) {
+        vtkNew<vtkXMLImageDataWriter> w;
+        w->SetFileName(tmp.c_str());
+        w->SetInputData(img);
+        w->SetDataModeToAppended();
+        return w->Write() == 1 && w->GetErrorCode() == 0;
+    });
 #endif
 }
 

@@ -9,8 +9,13 @@
 namespace pdpm::tools {
 
 /// Writes a file through `fill`, first to PATH.tmp, then renames it to PATH. InputError when the
-/// directory is not writable.
+/// directory is not writable or the rename fails; PATH.tmp is removed on every failure (also when
+/// `fill` throws).
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& fill);
+
+/// The same for writers that take a file name (VTK): `write(tmp)` writes PATH.tmp and returns false
+/// on failure. InputError when PATH.tmp cannot be opened, written or renamed; PATH.tmp is removed.
+void writeThroughTmp(const std::string& path, const std::function<bool(const std::string& tmp)>& write);
 
 /// Creates a directory (and parents); InputError on failure.
 void ensureDirectory(const std::string& dir);

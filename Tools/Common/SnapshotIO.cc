@@ -4,6 +4,7 @@
 #include "OutputFiles.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -79,6 +80,86 @@ vtkDataArray* pointArray(vtkUnstructuredGrid* g, const char* name, int comps, bo
     return a;
 }
 
+/// The value of attribute `key` in the text of one XML tag (found = false and "" when absent).
+std::string xmlAttribute(const std::string& tag, const std::string& key, bool& found) {
+    found = false;
+    for (std::size_t at = tag.find(key); at != std::string::npos; at = tag.find(key, at + 1)) {
+        if (at == 0 || !std::isspace(static_cast<unsigned char>(tag[at - 1]))) continue;
+        std::size_t k = tag.find_first_not_of(" \t\r\n", at + key.size());
+        if (k == std::string::npos || tag[k] != '=') continue;
+        k = tag.find_first_not_of(" \t\r\n", k + 1);
+        if (k == std::string::npos || (tag[k] != '"' && tag[k] != '\'')) continue;
+        const std::size_t close = tag.find(tag[k], k + 1);
+        if (close == std::string::npos) continue;
+        found = true;
+        return tag.substr(k + 1, close - k - 1);
+    }
+    return "";
+}
+
+/// Checks the sizes in the XML header of a .vtu before VTK reads the data: VTK trusts them (a
+/// negative NumberOfTuples crashes it, a huge NumberOfPoints allocates without bound). Every
+/// NumberOfPoints/NumberOfCells/NumberOfTuples/NumberOfComponents must be a non-negative integer
+/// (components ≥ 1), point and cell data arrays as long as the piece says, and no array may hold
+/// more values than the file can encode: a value takes at least one byte, and zlib compresses at
+/// most about 1032:1, so at most kValuesPerByte values per byte of the file.
+void checkVtuHeader(const std::string& path) {
+    constexpr double kValuesPerByte = 1100;
+    std::error_code ec;
+    const double fileBytes = double(fs::file_size(path, ec));
+    if (ec) return;  // not a regular file: VTK reports what is wrong with it
+    const double maxValues = kValuesPerByte * fileBytes;
+    std::ifstream in(path, std::ios::binary);
+    std::string header, line;
+    while (std::getline(in, line)) {  // the text part: up to the raw appended data, if any
+        const std::size_t appended = line.find("<AppendedData");
+        header += line.substr(0, appended) + "\n";
+        if (appended != std::string::npos) break;
+    }
+    auto count = [&](const std::string& tag, const char* key, double def) {
+        bool found = false;
+        const std::string v = xmlAttribute(tag, key, found);
+        if (!found) return def;
+        if (v.empty() || v.size() > 18 || v.find_first_not_of("0123456789") != std::string::npos)
+            inputError(path + ": " + key + "=\"" + v + "\" in the XML header is not a count (corrupt file?)");
+        const double n = std::stod(v);
+        if (n > maxValues)
+            inputError(path + ": " + key + "=\"" + v + "\" is impossible for a file of " + fmt(fileBytes) + " bytes (corrupt header?)");
+        return n;
+    };
+    double points = 0, cells = 0;
+    std::string section;  // the enclosing PointData, Points, CellData, Cells or FieldData
+    for (std::size_t pos = header.find('<'); pos != std::string::npos; pos = header.find('<', pos)) {
+        const std::size_t end = header.find('>', pos);
+        if (end == std::string::npos) break;  // malformed XML: VTK reports it
+        const std::string tag = header.substr(pos + 1, end - pos - 1);
+        pos = end + 1;
+        const bool closing = !tag.empty() && tag[0] == '/', empty = !tag.empty() && tag.back() == '/';
+        const std::size_t start = closing ? 1 : 0;
+        const std::string name = tag.substr(start, tag.find_first_of(" \t\r\n/", start) - start);  // npos: to the end
+        if (name == "Piece" && !closing) {
+            points = count(tag, "NumberOfPoints", 0);
+            cells = count(tag, "NumberOfCells", 0);
+            if (3 * points > maxValues)
+                inputError(path + ": NumberOfPoints=\"" + fmt(points) + "\" is impossible for a file of " + fmt(fileBytes) + " bytes (corrupt header?)");
+        } else if (name == "PointData" || name == "Points" || name == "CellData" || name == "Cells" || name == "FieldData") {
+            section = closing || empty ? "" : name;
+        } else if (name == "DataArray" && !closing) {
+            const double comps = count(tag, "NumberOfComponents", 1);
+            if (comps < 1) inputError(path + ": NumberOfComponents=\"0\" in the XML header (corrupt file?)");
+            const bool pointArray = section == "PointData" || section == "Points", cellArray = section == "CellData";
+            const double implied = pointArray ? points : cells;
+            const double tuples = count(tag, "NumberOfTuples", pointArray || cellArray ? implied : 0);
+            if ((pointArray || cellArray) && tuples != implied)
+                inputError(path + ": a " + section + " array has NumberOfTuples=\"" + fmt(tuples) + "\" but the piece has " +
+                           (pointArray ? "NumberOfPoints" : "NumberOfCells") + "=\"" + fmt(implied) + "\" (corrupt header?)");
+            if (tuples * comps > maxValues)
+                inputError(path + ": a DataArray of " + fmt(tuples) + " x " + fmt(comps) + " values is impossible for a file of " +
+                           fmt(fileBytes) + " bytes (corrupt header?)");
+        }
+    }
+}
+
 } // namespace
 #endif
 
@@ -88,6 +169,7 @@ ParticleSnapshot readVtu(const std::string& path) {
     inputError(path + ": this build has no VTK support (configure with -DPDPM_WITH_VTK=ON)");
 #else
     vtkObject::GlobalWarningDisplayOff();
+    checkVtuHeader(path);
     vtkNew<vtkXMLUnstructuredGridReader> reader;
     if (!reader->CanReadFile(path.c_str())) inputError(path + ": not a VTK XML UnstructuredGrid file");
     reader->SetFileName(path.c_str());
@@ -245,15 +327,14 @@ void writeVtu(const std::string& path, const ParticleSnapshot& s) {
     fieldArray("box", {s.boxLo.x, s.boxHi.x, s.boxLo.y, s.boxHi.y, s.boxLo.z, s.boxHi.z});
     fieldArray("periodic", {double(s.periodic[0]), double(s.periodic[1]), double(s.periodic[2])});
 
-    const std::string tmp = path + ".tmp";
-    vtkNew<vtkXMLUnstructuredGridWriter> w;
-    w->SetFileName(tmp.c_str());
-    w->SetInputData(g);
-    w->SetDataModeToAppended();
-    if (w->Write() != 1) inputError(path + ": cannot write");
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) inputError(path + ": cannot rename " + tmp + ": " + ec.message());
+    vtkObject::GlobalWarningDisplayOff();  // failures are reported in one line by writeThroughTmp
+    writeThroughTmp(path, [&](const std::string& tmp) {
+        vtkNew<vtkXMLUnstructuredGridWriter> w;
+        w->SetFileName(tmp.c_str());
+        w->SetInputData(g);
+        w->SetDataModeToAppended();
+        return w->Write() == 1 && w->GetErrorCode() == 0;
+    });
 #endif
 }
 
@@ -289,6 +370,8 @@ std::vector<std::string> readPvd(const std::string& path) {
 
 std::vector<ContactSnapshot> readFstat(const std::string& path) {
     requireReadable(path);
+    std::error_code ec;
+    const auto fileBytes = fs::file_size(path, ec);
     std::ifstream in(path);
     std::vector<ContactSnapshot> blocks;
     std::string line;
@@ -312,6 +395,8 @@ std::vector<ContactSnapshot> readFstat(const std::string& path) {
                 if (!(ls >> b.time >> kStep >> b.step >> kContacts >> m) || kStep != "step" ||
                     kContacts != "contacts" || m < 0)
                     inputError(where() + "malformed header, expected '# time T step S contacts M'");
+                if (!ec && double(m) * 34 > double(fileBytes))  // a row is 17 values and their separators
+                    inputError(where() + "the header announces " + std::to_string(m) + " contact rows, more than the file can hold");
                 b.contacts.reserve(std::size_t(m));
                 blocks.push_back(std::move(b));
                 expected = m;

@@ -139,7 +139,7 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
                 inputError(path + ": " + name + " " + formatDoubleShort(col[i]) + " (sample " + std::to_string(i + 1) +
                            ") is beyond +-" + formatDoubleShort(limit) + " " + unit);
     };
-    bounded(r.t, "time_s", 1e9, "s");
+    bounded(r.t, "time_s", 1e12, "s");
     bounded(r.stress, "axial_stress_Pa", 1e12, "Pa");
     bounded(r.lateral, "lateral_stress_Pa", 1e12, "Pa");
     bounded(r.bottom, "bottom_stress_Pa", 1e12, "Pa");

@@ -162,6 +162,11 @@ int plot(const Args& a) {
 // with C1 and alpha fixed when given (a few runs cannot fix three parameters).
 int steady(const Args& a) {
     std::vector<double> v, cs, phi, cm, pnd;
+    std::vector<std::string> skipped;  // reported when the fit succeeds: an error must be the only line on stderr
+    const auto reportSkipped = [&] {
+        for (const auto& f : skipped)
+            std::fprintf(stderr, "pdpm-fit steady: %s skipped: fewer than 3 test rows with eps_dev >= %g\n", f.c_str(), a.epsMin);
+    };
     std::printf("%-28s %5s %8s %8s %8s %9s %8s %8s %10s\n", "run", "rows", "v", "C*", "phi_r", "p_nd", "s_dev", "F_dev",
                 "Ek/Ep");
     for (const auto& f : a.files) {
@@ -172,7 +177,7 @@ int steady(const Args& a) {
         for (std::size_t i = 0; i < all.size(); ++i)
             if (eps[i] >= a.epsMin) rows.push_back(all[i]);
         if (rows.size() < 3) {  // an unfinished run, or one that never reached the steady state: skipped
-            std::fprintf(stderr, "pdpm-fit steady: %s skipped: fewer than 3 test rows with eps_dev >= %g\n", f.c_str(), a.epsMin);
+            skipped.push_back(f);
             continue;
         }
         auto mean = [&](const char* name) {
@@ -195,6 +200,7 @@ int steady(const Args& a) {
     if (v.size() <= nFree) {
         std::printf("Eq. 2.11 through the steady states: %zu runs are too few for %zu free parameters "
                     "(give --c1 and/or --alpha)\n", v.size(), nFree);
+        reportSkipped();
         return 0;
     }
     double vmin = 1;
@@ -206,6 +212,7 @@ int steady(const Args& a) {
     print("Eq. 2.11 C*(v) through the steady states", r);
     if (v.size() >= 3) print("Eq. 2.12 phi_r(v) through the steady states, v_c from Eq. 2.11", fitRattlers(v, phi, r.get("v_c")));
     if (v.size() >= 4) print("Eq. 2.14 p(v) through the steady states", fitPressure(v, cm, pnd));
+    reportSkipped();
     return 0;
 }
 // Sec. 2.7: calibrate the reduced anisotropy model on D2/D3 runs (Eq. 2.17/2.18 per run, Eq. 2.20

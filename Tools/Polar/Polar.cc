@@ -153,11 +153,11 @@ HarmonicFit fitM2(const std::vector<PolarBin>& bins) {
 
 PolarResult analysePolar(const ContactSnapshot& snap, const PolarConfig& cfg) {
     if (cfg.binsTheta < 5 || cfg.binsHeight < 5) inputError("at least 5 bins per method are needed for the sixth-order fits");
-    if (!(cfg.mu > 0)) inputError("friction coefficient mu must be > 0");
+    if (!(cfg.mu > 0) || !std::isfinite(cfg.mu)) inputError("friction coefficient mu must be finite and > 0");
     if (!(cfg.chi >= 0 && cfg.chi < 1)) inputError("cone cut-off chi must be in [0, 1)");
-    if (cfg.pdfBins < 1 || !(cfg.pdfMax > 0)) inputError("force pdf needs ≥ 1 bin and a positive range");
+    if (cfg.pdfBins < 1 || !(cfg.pdfMax > 0) || !std::isfinite(cfg.pdfMax)) inputError("force pdf needs ≥ 1 bin and a positive, finite range");
     const double an = norm(cfg.axis);
-    if (!(an > 0)) inputError("reference axis must be non-zero");
+    if (!(an > 0) || !std::isfinite(an)) inputError("reference axis must be non-zero and of finite length");
     const Vec3 e = cfg.axis / an;
 
     PolarResult r;

@@ -96,6 +96,8 @@ int run(int argc, char** argv) {
     cli.add("x_column", &xcol, "strain_dev", "x axis of the epsilon plot", {"strain_dev", "strain_axial", "time"});
     if (!cli.parse(argc, argv, std::cout)) return 0;
     if (inputs.empty()) inputError("--input: no input files given");
+    requireNonEmpty("output", output);
+    requireNonEmpty("name", name);
 
     PolarConfig cfg;
     if (axis == "x" || axis == "y" || axis == "z") {
@@ -105,7 +107,8 @@ int run(int argc, char** argv) {
         const auto v = parseNumberList("--axis", axis);
         if (v.size() != 3) inputError("--axis: expected x, y, z or three numbers 'ax,ay,az'");
         cfg.axis = {v[0], v[1], v[2]};
-        if (!(norm(cfg.axis) > 0)) inputError("--axis: the axis must be non-zero");
+        const double length = norm(cfg.axis);  // the numbers are finite; their length may still overflow
+        if (!(length > 0 && std::isfinite(length))) inputError("--axis: the axis must be non-zero and its length finite");
     }
     cfg.binsTheta = binsTheta;
     cfg.binsHeight = binsHeight;
@@ -135,12 +138,13 @@ int run(int argc, char** argv) {
     std::vector<LayerStats> lastLayers;
     PolarResult last;
     std::size_t analysed = 0;
+    std::vector<std::string> notes;  // printed when the run succeeds: an error must be the only line
     for (std::size_t k = 0; k < blocks.size(); ++k) {
         // Snapshots without contacts (a packing before it touches, say) are skipped, not fatal.
         bool any = false;
         for (const auto& c : blocks[k].contacts) any = any || cfg.includeWalls || !c.isWallContact();
         if (!any) {
-            std::cerr << "pdpm-polar: note: block at t = " << fmt(blocks[k].time) << " has no contacts; skipped\n";
+            notes.push_back("pdpm-polar: note: block at t = " + fmt(blocks[k].time) + " has no contacts; skipped");
             continue;
         }
         ++analysed;
@@ -183,6 +187,7 @@ int run(int argc, char** argv) {
         for (const LayerStats& l : lastLayers) std::cout << "  " << fmt(l.lo) << "-" << fmt(l.hi) << ": " << fmt(l.psi) << ", " << fmt(l.sDev);
         std::cout << "\n";
     }
+    for (const std::string& n : notes) std::cerr << n << "\n";
     if (plot != "none") writePlots(output, name, plot, xcol, layerAxis >= 0);
     return 0;
 }
