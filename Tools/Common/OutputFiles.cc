@@ -17,6 +17,7 @@
 #include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkXMLImageDataWriter.h>
+#include <vtkXMLWriter.h>
 #endif
 
 namespace fs = std::filesystem;
@@ -93,15 +94,21 @@ void writeVti(const std::string& path, const int dims[3], const double origin[3]
     t->SetName("TimeValue");
     t->InsertNextValue(time);
     img->GetFieldData()->AddArray(t);
-    vtkObject::GlobalWarningDisplayOff();  // failures are reported in one line below
-    writeThroughTmp(path, [&](const std::string& tmp) {
-        vtkNew<vtkXMLImageDataWriter> w;
-        w->SetFileName(tmp.c_str());
-        w->SetInputData(img);
-        w->SetDataModeToAppended();
-        return w->Write() == 1 && w->GetErrorCode() == 0;
-    });
+    vtkNew<vtkXMLImageDataWriter> w;
+    writeVtkXml(path, *w, img);
 #endif
 }
+
+#ifdef PDPM_TOOLS_HAVE_VTK
+void writeVtkXml(const std::string& path, vtkXMLWriter& writer, vtkDataObject* data) {
+    vtkObject::GlobalWarningDisplayOff();  // failures are reported in one line by writeThroughTmp
+    writeThroughTmp(path, [&](const std::string& tmp) {
+        writer.SetFileName(tmp.c_str());
+        writer.SetInputData(data);
+        writer.SetDataModeToAppended();
+        return writer.Write() == 1 && writer.GetErrorCode() == 0;
+    });
+}
+#endif
 
 } // namespace pdpm::tools

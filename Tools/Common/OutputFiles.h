@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+class vtkXMLWriter;
+class vtkDataObject;
+
 namespace pdpm::tools {
 
 /// Writes a file through `fill`, first to PATH.tmp, then renames it to PATH. InputError when the
@@ -16,6 +19,10 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 /// The same for writers that take a file name (VTK): `write(tmp)` writes PATH.tmp and returns false
 /// on failure. InputError when PATH.tmp cannot be opened, written or renamed; PATH.tmp is removed.
 void writeThroughTmp(const std::string& path, const std::function<bool(const std::string& tmp)>& write);
+
+/// A VTK XML writer (appended data) writing `data` to PATH through writeThroughTmp, VTK's own warnings
+/// silenced (the failure is reported in one line). Only in builds with VTK.
+void writeVtkXml(const std::string& path, vtkXMLWriter& writer, vtkDataObject* data);
 
 /// Creates a directory (and parents); InputError on failure.
 void ensureDirectory(const std::string& dir);
