@@ -47,6 +47,14 @@ XyzrFile readXyzr(const std::string& path) {
         f.r.push_back(r);
     }
     if (f.x.empty()) inputError("start file " + path + " has no particles");
+    // centres inside the declared box: a start file's particles are wrapped into it (periodic decks)
+    // or held in it by walls; one far outside is a corrupt file, not a configuration
+    if (f.hasBox)
+        for (std::size_t i = 0; i < f.x.size(); ++i)
+            for (int a = 0; a < 3; ++a)
+                if (!(f.x[i][a] >= f.lo[a] && f.x[i][a] <= f.hi[a]))
+                    inputError(path + ": particle " + std::to_string(i) + " (centre " + fmt(f.x[i]) +
+                               ") lies outside the box of the '# box' line");
     return f;
 }
 
