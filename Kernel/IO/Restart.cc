@@ -48,6 +48,14 @@ std::string resealRestartText(const std::string& text) {
     return body + restartChecksumLine(body);
 }
 
+std::string withRestartValue(const std::string& text, const std::string& key, const std::string& value) {
+    const std::size_t at = text.find("\n" + key + " ");
+    if (at == std::string::npos) return {};
+    const std::size_t from = at + 2 + key.size(), to = text.find('\n', from);
+    if (to == std::string::npos) return {};
+    return resealRestartText(text.substr(0, from) + value + text.substr(to));
+}
+
 void DPMBase::writeRestart(const std::string& path) const {
     std::ostringstream os;
     os << kMagic << ' ' << kVersion << '\n';

@@ -13,4 +13,8 @@ std::string restartChecksumLine(const std::string& body);
 /// rest; empty if `text` has no "\nend " line to replace.
 std::string resealRestartText(const std::string& text);
 
+/// `text` (a restart file) with the value of the first line "KEY VALUE" replaced by `value` and the
+/// checksum resealed; empty if there is no such line (or no checksum line).
+std::string withRestartValue(const std::string& text, const std::string& key, const std::string& value);
+
 } // namespace pdpm

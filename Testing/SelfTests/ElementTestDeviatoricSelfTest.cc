@@ -136,12 +136,10 @@ int main() {
                                                              {"contact_stress_sum", "nan 0 0"},  {"stage", "99"},
                                                              {"stage_begun", "2"},               {"stage_start", "nan"}};
         for (const auto& [key, bad] : edits) {
-            const std::size_t at = text.find("\n" + std::string(key) + " ");
-            check(at != std::string::npos, std::string("the final restart file holds ") + key);
-            if (at == std::string::npos) continue;
-            const std::size_t from = at + 2 + std::string(key).size(), to = text.find('\n', from);
-            std::ofstream("tri2/edited.restart", std::ios::binary | std::ios::trunc)
-                << pdpm::resealRestartText(text.substr(0, from) + bad + text.substr(to));
+            const std::string edited = pdpm::withRestartValue(text, key, bad);
+            check(!edited.empty(), std::string("the final restart file holds ") + key);
+            if (edited.empty()) continue;
+            std::ofstream("tri2/edited.restart", std::ios::binary | std::ios::trunc) << edited;
             check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart", "tri2/edited.restart"}) == 2,
                   std::string("a restart with ") + key + " '" + bad + "' is refused (exit code 2)");
         }

@@ -90,11 +90,10 @@ int main() {
         const std::pair<std::string, std::string> edits[] = {
             {"stepIndex", "0.5"}, {"settling", "2"}, {"pistonWall", bottomWall}, {"recRow", "1"}, {"labScale", "-1"}};
         for (const auto& [key, bad] : edits) {
-            const std::size_t at = half.find("\n" + key + " ");
-            ok &= check(at != std::string::npos, "part.restart holds " + key);
-            if (at == std::string::npos) continue;
-            const std::size_t from = at + 2 + key.size(), to = half.find('\n', from);
-            writeWholeFile("edited.restart", resealRestartText(half.substr(0, from) + bad + half.substr(to)));
+            const std::string edited = withRestartValue(half, key, bad);
+            ok &= check(!edited.empty(), "part.restart holds " + key);
+            if (edited.empty()) continue;
+            writeWholeFile("edited.restart", edited);
             OedometerRelaxation e;
             ok &= check(oedometer_selftest::runDriver(e, {"--restart", "edited.restart", "--name", "edited", "--quiet"}) == 2,
                         "a restart with " + key + " '" + bad + "' is refused (exit code 2)");
