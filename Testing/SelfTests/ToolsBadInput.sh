@@ -103,6 +103,13 @@ else
     expect2 "cg out of memory" bash -c 'ulimit -v 800000; exec "$@"' cg "$CG" --input "$vtu" --nx 200 --ny 200 --nz 200 --threads 1 --format csv --output "$work/o"
     says "cg out of memory" 'out of memory'
 fi
+# a collection whose timestep is not a number, a particle file without its time field
+sed 's/timestep="0"/timestep="nan"/' "$work/ex/column.pvd" > "$work/ex/nan.pvd"
+expect2 "cg pvd timestep nan"  "$CG" --input "$work/ex/nan.pvd" --nz 5 --output "$work/o"
+says "cg pvd timestep nan" 'timestep "nan" is not a finite number'
+LC_ALL=C sed 's/Name="time"/Name="tyme"/' "$vtu" > "$work/ex/notime.vtu"
+expect2 "cg vtu without time"  "$CG" --input "$work/ex/notime.vtu" --nz 5 --output "$work/o"
+says "cg vtu without time" "field data 'time' missing \\(not a PowderDPM particle file"
 # outputs that cannot be written: refused, no .tmp left behind
 mkdir -p "$work/od/cg.csv" "$work/ov/cg.vti" "$work/ob/polar_bins.csv" "$work/os/polar_series.csv" "$work/oe/column.pvd"
 expect2 "cg csv blocked"       "$CG" --input "$vtu" --nz 5 --output "$work/od"

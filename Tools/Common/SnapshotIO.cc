@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -183,7 +184,9 @@ ParticleSnapshot readVtu(const std::string& path) {
     auto field = [&](const char* name, int comps, bool required) -> vtkDataArray* {
         vtkDataArray* a = fd ? fd->GetArray(name) : nullptr;
         if (!a) {
-            if (required) inputError(path + ": field data '" + name + "' missing");
+            if (required)
+                inputError(path + ": field data '" + name +
+                           "' missing (not a PowderDPM particle file? its .vtu files carry time, step and box as field data)");
             return nullptr;
         }
         if (a->GetNumberOfComponents() * a->GetNumberOfTuples() != comps)
@@ -195,6 +198,7 @@ ParticleSnapshot readVtu(const std::string& path) {
         return a->GetComponent(k / c, k % c);
     };
     s.time = value(field("time", 1, true), 0);
+    if (!std::isfinite(s.time)) inputError(path + ": field data 'time' is not a finite number");
     if (vtkDataArray* a = field("step", 1, false)) s.step = std::lround(value(a, 0));
     vtkDataArray* box = field("box", 6, true);
     for (int a = 0; a < 3; ++a) {
@@ -345,12 +349,22 @@ std::vector<std::string> readPvd(const std::string& path) {
     static const std::regex dataSet(R"re(<DataSet\b[^>]*>)re");
     static const std::regex fileAttr(R"re(\bfile\s*=\s*"([^"]*)")re");
     static const std::regex partAttr(R"re(\bpart\s*=\s*"([^"]*)")re");
+    static const std::regex stepAttr(R"re(\btimestep\s*=\s*"([^"]*)")re");
     const fs::path dir = fs::path(path).parent_path();
     for (auto it = std::sregex_iterator(text.begin(), text.end(), dataSet); it != std::sregex_iterator(); ++it) {
         const std::string tag = (*it)[0].str();
         std::smatch m;
         // The kernel lists particles as part 0 and wall geometry as part 1: read particles only.
         if (std::regex_search(tag, m, partAttr) && m[1].str() != "0") continue;
+        // The time itself is read from each .vtu's field data; a timestep that is not a finite
+        // number still means the collection is damaged.
+        if (std::regex_search(tag, m, stepAttr)) {
+            const std::string ts = m[1].str();
+            char* end = nullptr;
+            const double t = std::strtod(ts.c_str(), &end);
+            if (ts.empty() || end != ts.c_str() + ts.size() || !std::isfinite(t))
+                inputError(path + ": DataSet timestep \"" + ts + "\" is not a finite number");
+        }
         if (!std::regex_search(tag, m, fileAttr)) continue;
         fs::path f = m[1].str();
         if (f.is_relative()) f = dir / f;
