@@ -1,13 +1,13 @@
 #include "Cli.h"
 
 #include "Core/Error.h"
+#include "Core/RunMain.h"
 
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
-#include <new>
 #include <sstream>
 
 namespace pdpm::tools {
@@ -186,22 +186,8 @@ void Cli::printHelp(std::ostream& os) const {
 }
 
 int runTool(const std::string& program, const std::function<int()>& body) {
-    try {
-        return body();
-    } catch (const InputError& e) {
-        std::string msg = e.what();
-        for (char& c : msg)
-            if (c == '\n') c = ' ';
-        std::cerr << program << ": error: " << msg << std::endl;
-        return kExitBadInput;
-    } catch (const std::bad_alloc&) {
-        // sizes come from the input (particle counts, grids, file headers): too large for this machine
-        std::cerr << program << ": error: out of memory: the input asks for more memory than this machine has" << std::endl;
-        return kExitBadInput;
-    } catch (const std::exception& e) {
-        std::cerr << program << ": internal error: " << e.what() << std::endl;
-        return 1;
-    }
+    // the same error handling as the drivers' main(): one place for the messages and exit codes
+    return runMain(program.c_str(), body);
 }
 
 std::vector<double> parseNumberList(const std::string& flag, const std::string& text) {

@@ -47,9 +47,9 @@ private:
     std::vector<Opt> opts_;
 };
 
-/// Runs `body`; InputError → one line "PROGRAM: error: MESSAGE" on stderr, exit code 2; std::bad_alloc
-/// → "PROGRAM: error: out of memory: …", exit code 2 (the sizes come from the input); any other
-/// exception → "PROGRAM: internal error: …", exit code 1.
+/// Runs `body` through pdpm::runMain (Core/RunMain.h): InputError → one line "PROGRAM: error:
+/// MESSAGE" on stderr, exit code 2; std::bad_alloc → "PROGRAM: error: out of memory: …", exit code 2
+/// (the sizes come from the input); any other exception → "PROGRAM: error: …", exit code 1.
 int runTool(const std::string& program, const std::function<int()>& body);
 
 /// Splits "a,b,c" (commas or spaces) into finite doubles; InputError naming `flag` ("name" or
