@@ -17,6 +17,7 @@
 #include "ExplainBench.h"
 #include "IO/AtomicFile.h"
 #include "IO/Json.h"
+#include "IO/NumberFormat.h"
 
 using namespace pdpm;
 using namespace pdpm::explain;
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
         std::string pairSnrText, demSnrText, demDriverArgs, demFamiliesText;
         int demCases = 0;
         bool calibrated = false;
+        double bicThreshold = 10;
         cli.add("output", &out, "", "output directory");
         cli.add("reps", &reps, 5, "positive cases per mechanism and SNR", 0, 100000);
         cli.add("nulls", &nulls, 40, "null cases", 0, 100000);
@@ -57,6 +59,9 @@ int main(int argc, char** argv) {
         cli.add("calibrated_compliance", &calibrated, false,
                 "give the explainer each case's instrument compliance, as a lab's calibration run would "
                 "(cases/NAME/model.json); default: blind, the compliance is fitted as a nuisance");
+        cli.add("bic_threshold", &bicThreshold, 10.0, "-",
+                "the explainer's acceptance threshold dBIC (MODEL.json bic_threshold), to measure its trade-off "
+                "between detection and false alarms", 2.0, 1e6);
         if (!cli.parse(argc, argv, std::cout)) return 0;
         if (out.empty()) inputError("--output is required");
         const auto snrs = tools::parseNumberList("snr", snrText);
@@ -129,6 +134,7 @@ int main(int argc, char** argv) {
                 if (calibrated) readModelFile(cdir + "/model.json", opt);
                 opt.figures = false;
                 opt.forceBest = j.forced;
+                opt.bicThreshold = bicThreshold;
                 const ExplainResult r = pdpm::explain::explain(rec, proto, opt);
                 writeReport(out + "/reports/" + j.name, r, rec, proto, opt);
                 // the scorer reads the report and the sealed truth
@@ -210,6 +216,7 @@ int main(int argc, char** argv) {
         md << "Benchmark: " << jobs.size() << " cases, " << samples << " samples each, noise AR(1) with rho in {0, 0.5, 0.9} "
            << "(cycled), quantisation sigma/2, instrument compliance and sensor drift present in every case"
            << (calibrated ? "; the explainer is given each case's instrument compliance (a calibrated instrument)" : "")
+           << (bicThreshold != 10 ? "; acceptance threshold dBIC >= " + fmt(bicThreshold) + " (default 10)" : std::string())
            << ".\n\n";
         md << "| figure | target | measured |\n|---|---|---|\n";
         md << "| false 'missing physics' (any verdict but no_missing_physics) on null cases | <= 5 % | " << countShare(fa, nNull) << " |\n";
