@@ -44,7 +44,12 @@ for mu in sys.argv[2:]:
         mus.append(mu)
 if len(mus) < 2: sys.exit("fewer than two completed runs")
 mus.sort(key=float)  # the trend checks compare neighbours in mu
-print(f"{'mu':>5} {'s_dev_max':>9} {'s_dev(end of loading)':>21} {'F_dev_max':>9} {'eps_dev(s_dev=0, unloading)':>27} {'Ek/Ep<=1e-3':>11} {'face ratio':>10}")
+# F_dev^max two ways: the largest F_dev of the loading (what the table always gave), and the thesis'
+# reading of Fig. 3.3c/3.4 -- the peak that every run reaches "within the same range of deviatoric
+# strain (eps_dev ~ 4-6 %)" before the anisotropy decreases, i.e. the largest F_dev for eps_dev <= 0.08;
+# at high mu a late horizontal anisotropy (F_dev_star < 0) can exceed it near v_max
+print(f"{'mu':>5} {'s_dev_max':>9} {'s_dev(end of loading)':>21} {'F_dev_max':>9} {'(at eps_dev)':>12} {'F_dev peak eps<=0.08':>20} {'F*_dev at v_max':>15} {'eps_dev(s_dev=0, unloading)':>27} {'Ek/Ep<=1e-3':>11} {'face ratio':>10}")
+early = []
 res = []
 faces = []
 for mu in mus:
@@ -52,7 +57,12 @@ for mu in mus:
     load = [r for r in rows if 0 < float(r['tau']) <= 0.5]
     unload = [r for r in rows if float(r['tau']) > 0.5]
     cyc = [float(r['Ek_over_Ep']) for r in rows if 0 < float(r['tau']) < 1]
-    smax = max(float(r['s_dev']) for r in load); fmax = max(float(r['F_dev']) for r in load)
+    smax = max(float(r['s_dev']) for r in load)
+    fbest = max(load, key=lambda r: float(r['F_dev']))
+    fmax, fmax_eps = float(fbest['F_dev']), float(fbest['eps_dev'])
+    fearly = max(float(r['F_dev']) for r in load if float(r['eps_dev']) <= 0.08)
+    fstar_end = float(load[-1]['F_dev_star'])
+    early.append((float(mu), fearly))
     # the signed s_dev (s_dev_star) changes sign where the stress becomes isotropic
     zero = next((float(r['eps_dev']) for r in unload if float(r['s_dev_star']) <= 0), float('nan'))
     quiet = sum(x <= 1e-3 for x in cyc) / max(1, len(cyc))
@@ -63,11 +73,12 @@ for mu in mus:
     fr = [float(r['mobilisation_face_ratio']) for r in load if float(r['tau']) > 0.1 and has_face and float(r['mobilisation_face_ratio'] or 0) > 0]
     face = sum(fr) / len(fr) if fr else float('nan')
     if float(mu) > 0 and has_face: faces.append((mu, face))
-    print(f"{mu:>5} {smax:9.4f} {float(load[-1]['s_dev']):21.4f} {fmax:9.4f} {zero:27.4f} {100 * quiet:10.0f}% {face:10.3f}")
+    print(f"{mu:>5} {smax:9.4f} {float(load[-1]['s_dev']):21.4f} {fmax:9.4f} {fmax_eps:12.3f} {fearly:20.4f} {fstar_end:15.4f} {zero:27.4f} {100 * quiet:10.0f}% {face:10.3f}")
 with open(f"{out}/ch3_summary.csv", "w") as fo:
-    fo.write("mu,s_dev_max,F_dev_max,eps_dev_zero_unloading,face_ratio\n")
+    fo.write("mu,s_dev_max,F_dev_max,eps_dev_zero_unloading,face_ratio,F_dev_peak_eps_le_0.08\n")
     face_of = dict((float(m), f) for m, f in faces)
-    for r in res: fo.write(",".join(f"{x:.6g}" for x in r + (face_of.get(r[0], float('nan')),)) + "\n")
+    early_of = dict(early)
+    for r in res: fo.write(",".join(f"{x:.6g}" for x in r + (face_of.get(r[0], float('nan')), early_of[r[0]])) + "\n")
 ok = True
 # rises up to mu ~ 0.25-0.3: non-decreasing (within 0.02) over the runs with mu <= 0.3, and clearly up
 upto = [r for r in res if r[0] <= 0.3]
@@ -84,6 +95,8 @@ print(f"s_dev_max peaks at mu = {peak[0]} ({peak[1]:.4f}); beyond mu = 0.3: "
       + " (thesis: decreasing; reported, not checked)")
 good = res[-1][2] < res[0][2]; ok &= good
 print(f"F_dev_max decreases with mu (mu = {res[0][0]}: {res[0][2]:.4f}, mu = {res[-1][0]}: {res[-1][2]:.4f}): {good}")
+print("F_dev peak for eps_dev <= 0.08 against mu (the thesis' first peak; reported, not checked): "
+      + ", ".join(f"{f:.4f} (mu = {m:g})" for m, f in early))
 good = res[-1][3] < res[0][3]; ok &= good
 print(f"zero-crossing strain decreases with mu ({res[0][3]:.4f} -> {res[-1][3]:.4f}): {good}")
 known = faces  # frictional runs whose files have the column; a NaN (no valid row) fails
@@ -103,7 +116,7 @@ set multiplot layout 1,2
 set xlabel 'microscopic friction mu'
 set logscale x
 set key top left
-plot '$out/ch3_summary.csv' skip 1 u (\$1 > 0 ? \$1 : 0.005):2 w lp pt 7 t 's_dev max (loading)', '' skip 1 u (\$1 > 0 ? \$1 : 0.005):3 w lp pt 5 t 'F_dev max (loading)'
+plot '$out/ch3_summary.csv' skip 1 u (\$1 > 0 ? \$1 : 0.005):2 w lp pt 7 t 's_dev max (loading)', '' skip 1 u (\$1 > 0 ? \$1 : 0.005):3 w lp pt 5 t 'F_dev max (loading)', '' skip 1 u (\$1 > 0 ? \$1 : 0.005):6 w lp pt 4 t 'F_dev peak, eps_dev <= 0.08'
 set key top right
 plot '$out/ch3_summary.csv' skip 1 u (\$1 > 0 ? \$1 : 0.005):4 w lp pt 7 t 'eps_dev where s_dev = 0 on unloading'
 unset multiplot

@@ -1,6 +1,6 @@
 // pdpm-explain-bench: the blind benchmark. Generates cases (recording + protocol in cases/, truth
 // sealed in truth/), runs the explainer on each (reports/), then scores every report against its
-// truth and writes summary.md, summary.json and power.csv.
+// truth and writes summary.md, power.csv and scores.csv (one row per case).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -260,6 +260,19 @@ int main(int argc, char** argv) {
         pc << "snr,detected,cases\n";
         for (auto& [snr, pr] : power) pc << snr << ',' << pr.first << ',' << pr.second << '\n';
         writeWholeFile(out + "/power.csv", pc.str());
+        // every case's score, for looking into what the summary counts (e.g. which detections
+        // miss the window IoU of 0.7); -1 where a figure does not apply to the case
+        std::ostringstream sc;
+        sc << std::setprecision(6) << "name,kind,snr,rho,forced,verdict,detected,correct_mechanism,ambiguous,iou,"
+           << "param_rel_error,param_rel_error_identifiable,param_covered,heldout_gain,heldout_excess_gain\n";
+        for (std::size_t i = 0; i < jobs.size(); ++i) {
+            const CaseScore& c = scores[i];
+            sc << jobs[i].name << ',' << jobs[i].spec.kind << ',' << jobs[i].spec.snr << ',' << jobs[i].spec.rho << ','
+               << int(jobs[i].forced) << ',' << c.verdict << ',' << int(c.detected) << ',' << int(c.correctMechanism) << ','
+               << int(c.ambiguous) << ',' << c.iou << ',' << c.paramRelError << ',' << c.paramRelErrorIdentifiable << ','
+               << c.paramCovered << ',' << c.heldoutGain << ',' << c.heldoutExcessGain << '\n';
+        }
+        writeWholeFile(out + "/scores.csv", sc.str());
         std::cout << md.str();
         return 0;
     });
