@@ -60,7 +60,7 @@ for mu in mus:
     smax = max(float(r['s_dev']) for r in load)
     fbest = max(load, key=lambda r: float(r['F_dev']))
     fmax, fmax_eps = float(fbest['F_dev']), float(fbest['eps_dev'])
-    fearly = max(float(r['F_dev']) for r in load if float(r['eps_dev']) <= 0.08)
+    fearly = max((float(r['F_dev']) for r in load if float(r['eps_dev']) <= 0.08), default=float('nan'))
     fstar_end = float(load[-1]['F_dev_star'])
     early.append((float(mu), fearly))
     # the signed s_dev (s_dev_star) changes sign where the stress becomes isotropic

@@ -5,12 +5,15 @@
 # OUT/pooled.md: every count of the summaries added over the seeds (one seed's 60 cases per SNR make
 # a single case worth 1.7 %, so a target near its threshold is judged on the pooled counts), and the
 # forced additions' held-out gains case by case. --update-doc then uses the first seed's summary.
+# SKIP_RUNS=1 only re-pools the folders already in OUT. PDPM_EXPLAIN_BIC=T runs the explainer with
+# the acceptance threshold dBIC >= T instead of 10 (the threshold's trade-off).
 source "$(dirname "$0")/explain-common.sh"
 REPS="${PDPM_EXPLAIN_REPS:-10}"; NULLS="${PDPM_EXPLAIN_NULLS:-100}"
 SEEDS="${PDPM_EXPLAIN_SEEDS:-}"
+BIC="${PDPM_EXPLAIN_BIC:-10}"
 bench() {  # output folder, seed
   "$BIN/pdpm-explain-bench" --output "$1" --reps "$REPS" --nulls "$NULLS" --forced 20 --extras 10 --samples 2000 \
-    --snr 0.5,1,2,3,5 --seed "$2" | tail -5
+    --snr 0.5,1,2,3,5 --seed "$2" --bic_threshold "$BIC" | tail -5
 }
 if [ -z "$SEEDS" ]; then
   bench "$OUT/bench" 1
@@ -21,6 +24,7 @@ else
     [ "${SKIP_RUNS:-0}" = 1 ] || bench "$OUT/bench_seed$s" "$s"
     dirs+=("$OUT/bench_seed$s")
   done
+  [ "${#dirs[@]}" -gt 0 ] || { echo "explain-benchmark.sh: PDPM_EXPLAIN_SEEDS names no seed" >&2; exit 2; }
   SUMMARY="${dirs[0]}/summary.md"
   python3 - "$OUT/pooled.md" "${dirs[@]}" <<'PY'
 import json, os, re, sys
@@ -54,9 +58,10 @@ with open(out + '.tmp', 'w') as o:
         o.write(f"| {key[0]} | {key[1]} | {k}/{n} ({100 * k / max(n, 1):.1f} %) |\n")
     if gains:
         g = sorted(x for x, _ in gains)
+        med = 0.5 * (g[(len(g) - 1) // 2] + g[len(g) // 2])
         over = [(x, c) for x, c in gains if x > 0.02]
         o.write(f"| forced addition on null cases: held-out gain mean / median / max | <= 2 % | "
-                f"{100 * sum(g) / len(g):.2f} % / {100 * g[len(g) // 2]:.2f} % / {100 * g[-1]:.2f} % ({len(g)} cases) |\n")
+                f"{100 * sum(g) / len(g):.2f} % / {100 * med:.2f} % / {100 * g[-1]:.2f} % ({len(g)} cases) |\n")
         o.write(f"| forced additions gaining more than 2 % | - | {len(over)}/{len(g)}"
                 + (': ' + ', '.join(f'{c} {100 * x:.1f} %' for x, c in sorted(over, reverse=True)) if over else '') + " |\n")
     o.write('\n| mechanism | SNR 0.5 | SNR 1 | SNR 2 | SNR 3 | SNR 5 |\n|---|---|---|---|---|---|\n')

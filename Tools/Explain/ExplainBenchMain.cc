@@ -261,7 +261,8 @@ int main(int argc, char** argv) {
         for (auto& [snr, pr] : power) pc << snr << ',' << pr.first << ',' << pr.second << '\n';
         writeWholeFile(out + "/power.csv", pc.str());
         // every case's score, for looking into what the summary counts (e.g. which detections
-        // miss the window IoU of 0.7); -1 where a figure does not apply to the case
+        // miss the window IoU of 0.7); the parameter columns and heldout_excess_gain are -1 where
+        // they do not apply; iou is 0 for a case without a detected window
         std::ostringstream sc;
         sc << std::setprecision(6) << "name,kind,snr,rho,forced,verdict,detected,correct_mechanism,ambiguous,iou,"
            << "param_rel_error,param_rel_error_identifiable,param_covered,heldout_gain,heldout_excess_gain\n";
