@@ -115,7 +115,7 @@ set datafile separator ','
 set multiplot layout 1,2
 set xlabel 'microscopic friction mu'
 set logscale x
-set key top left
+set key top left Left reverse
 plot '$out/ch3_summary.csv' skip 1 u (\$1 > 0 ? \$1 : 0.005):2 w lp pt 7 t 's_dev max (loading)', '' skip 1 u (\$1 > 0 ? \$1 : 0.005):3 w lp pt 5 t 'F_dev max (loading)', '' skip 1 u (\$1 > 0 ? \$1 : 0.005):6 w lp pt 4 t 'F_dev peak, eps_dev <= 0.08'
 set key top right
 plot '$out/ch3_summary.csv' skip 1 u (\$1 > 0 ? \$1 : 0.005):4 w lp pt 7 t 'eps_dev where s_dev = 0 on unloading'
