@@ -1,12 +1,12 @@
 #include "SnapshotIO.h"
 
 #include "Core/Error.h"
+#include "Core/Parameters.h"
 #include "OutputFiles.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -360,10 +360,8 @@ std::vector<std::string> readPvd(const std::string& path) {
         // number still means the collection is damaged.
         if (std::regex_search(tag, m, stepAttr)) {
             const std::string ts = m[1].str();
-            char* end = nullptr;
-            const double t = std::strtod(ts.c_str(), &end);
-            if (ts.empty() || end != ts.c_str() + ts.size() || !std::isfinite(t))
-                inputError(path + ": DataSet timestep \"" + ts + "\" is not a finite number");
+            double t = 0;
+            if (!parseStrictDouble(ts, t)) inputError(path + ": DataSet timestep \"" + ts + "\" is not a finite number");
         }
         if (!std::regex_search(tag, m, fileAttr)) continue;
         fs::path f = m[1].str();
