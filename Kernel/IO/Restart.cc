@@ -48,11 +48,25 @@ std::string resealRestartText(const std::string& text) {
     return body + restartChecksumLine(body);
 }
 
-std::string withRestartValue(const std::string& text, const std::string& key, const std::string& value) {
+namespace {
+/// [from, to) of the value of the first line "KEY VALUE" of a restart text; false if there is none.
+bool restartValueSpan(const std::string& text, const std::string& key, std::size_t& from, std::size_t& to) {
     const std::size_t at = text.find("\n" + key + " ");
-    if (at == std::string::npos) return {};
-    const std::size_t from = at + 2 + key.size(), to = text.find('\n', from);
-    if (to == std::string::npos) return {};
+    if (at == std::string::npos) return false;
+    from = at + 2 + key.size();
+    to = text.find('\n', from);
+    return to != std::string::npos;
+}
+} // namespace
+
+std::string restartValue(const std::string& text, const std::string& key) {
+    std::size_t from = 0, to = 0;
+    return restartValueSpan(text, key, from, to) ? text.substr(from, to - from) : std::string();
+}
+
+std::string withRestartValue(const std::string& text, const std::string& key, const std::string& value) {
+    std::size_t from = 0, to = 0;
+    if (!restartValueSpan(text, key, from, to)) return {};
     return resealRestartText(text.substr(0, from) + value + text.substr(to));
 }
 

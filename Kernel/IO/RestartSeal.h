@@ -16,5 +16,7 @@ std::string resealRestartText(const std::string& text);
 /// `text` (a restart file) with the value of the first line "KEY VALUE" replaced by `value` and the
 /// checksum resealed; empty if there is no such line (or no checksum line).
 std::string withRestartValue(const std::string& text, const std::string& key, const std::string& value);
+/// The value of the first line "KEY VALUE" of `text` (a restart file); empty if there is no such line.
+std::string restartValue(const std::string& text, const std::string& key);
 
 } // namespace pdpm

@@ -82,11 +82,8 @@ int main() {
         const std::string half = readWholeFile("part.restart");
         // the machine's state edited into values no run can have (file resealed, so the checksum
         // passes): refused with exit code 2 before anything runs
-        const std::string bottomWall = [&] {
-            const std::size_t at = half.find("\nbottomWall ");
-            return at == std::string::npos ? std::string("?") : half.substr(at + 12, half.find('\n', at + 1) - at - 12);
-        }();
-        ok &= check(bottomWall != "?", "part.restart holds bottomWall");
+        const std::string bottomWall = restartValue(half, "bottomWall");
+        ok &= check(!bottomWall.empty(), "part.restart holds bottomWall");
         const std::pair<std::string, std::string> edits[] = {
             {"stepIndex", "0.5"}, {"settling", "2"}, {"pistonWall", bottomWall}, {"recRow", "1"}, {"labScale", "-1"}};
         for (const auto& [key, bad] : edits) {
