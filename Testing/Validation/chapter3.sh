@@ -5,7 +5,9 @@
 # Documentation/validation-thesis-ch3.md), F_dev^max decreases with mu (thesis: saturates near 0.025),
 # and the strain at which s_dev returns to zero on unloading decreases with mu; and that every
 # frictional run is homogeneous next to the moving faces (mean mobilisation_face_ratio on loading
-# within 0.2 of 1, the thesis' check of Sec. 3.2.2).
+# within 0.2 of 1, the thesis' check of Sec. 3.2.2). Then chapter3-eigen.py compares the eigenvalues,
+# eigenvector angles and shape factors with Sec. 3.4.3 (Fig. 3.5-3.9; reported, not gated) and gnuplot
+# draws ch3_trends.png, ch3_fig3_5_6.png and ch3_fig3_7_8.png.
 # Usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [extra driver flags, e.g. --particles 2197]
 #   MUS="0 0.1 ..." the friction coefficients (default: the thesis' nine); JOBS=N runs N at once
 #   (use JOBS=2 with THREADS=1 on a 2-core machine); ANALYSE_ONLY=1 only re-reads OUT_DIR.
@@ -107,7 +109,55 @@ else:
     print("face ratio: not in these files (written before 2026-12-04); not checked")
 sys.exit(0 if ok else 1)
 PY
+# Sec. 3.4.3 (Fig. 3.5-3.9): eigenvalues, eigenvector angles and shape factors; reported, not gated
+python3 "$(dirname "$0")/chapter3-eigen.py" "$out" $mus || { echo "chapter3-eigen.py failed" >&2; rc=1; }
 if command -v gnuplot >/dev/null; then
+  eig=""; for mu in $mus; do [[ -f "$out/ch3_eigen_mu$mu.dat" ]] && eig="$eig $mu"; done
+  one="0.1"; [[ -f "$out/ch3_eigen_mu$one.dat" ]] || one="${eig%% *}"; one="${one# }"
+  if [[ -n "$eig" ]]; then
+    gnuplot <<GP || true
+set terminal pngcairo size 1100,800 noenhanced
+set output '$out/ch3_fig3_5_6.png'
+f = '$out/ch3_eigen_mu$one.dat'
+set multiplot layout 2,2 title 'mu = $one: deviatoric eigenvalues and eigenvector angles to z (lines: loading, points: unloading)'
+set xlabel 'eps_dev'
+set key top left
+set ylabel 'stress eigenvalue / p'
+plot for [k=1:3] f u (\$3==0 ? \$2 : NaN):(column(3+k)) w l lw 2 lc k t sprintf('l%d', k), for [k=1:3] f u (\$3==1 ? \$2 : NaN):(column(3+k)) w p pt 7 ps 0.4 lc k notitle
+set ylabel 'stress: angle to z (deg)'
+set yrange [0:90]
+plot for [k=1:3] f u (\$3==0 ? \$2 : NaN):(column(6+k)) w l lw 2 lc k t sprintf('theta%d', k), for [k=1:3] f u (\$3==1 ? \$2 : NaN):(column(6+k)) w p pt 7 ps 0.4 lc k notitle
+set autoscale y
+set ylabel 'fabric eigenvalue'
+plot for [k=1:3] f u (\$3==0 ? \$2 : NaN):(column(10+k)) w l lw 2 lc k t sprintf('l%d', k), for [k=1:3] f u (\$3==1 ? \$2 : NaN):(column(10+k)) w p pt 7 ps 0.4 lc k notitle
+set ylabel 'fabric: angle to z (deg)'
+set yrange [0:90]
+plot for [k=1:3] f u (\$3==0 ? \$2 : NaN):(column(13+k)) w l lw 2 lc k t sprintf('theta%d', k), for [k=1:3] f u (\$3==1 ? \$2 : NaN):(column(13+k)) w p pt 7 ps 0.4 lc k notitle
+unset multiplot
+set terminal pngcairo size 1300,800 noenhanced
+set output '$out/ch3_fig3_7_8.png'
+set linetype 9 lc rgb '#808080' dt 2 lw 2
+set multiplot layout 2,3 title 'angle of the largest eigenvector to z against tau = t/T (reversal at 0.5), and shape factors Lambda = l2/l1'
+set xlabel 'tau'
+set yrange [0:90]
+set key bottom right font ',8'
+set ylabel 'stress theta1, all contacts (deg)'
+plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:7 w l t 'mu '.m
+set ylabel 'fabric theta1, all contacts (deg)'
+plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:14 w l t 'mu '.m
+set ylabel 'fabric theta1, strong contacts (deg)'
+plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:20 w l t 'mu '.m
+set ylabel 'fabric theta1, weak contacts (deg)'
+plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:21 w l t 'mu '.m
+set yrange [-1:1]
+set ylabel 'stress Lambda'
+plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:10 w l t 'mu '.m
+set ylabel 'fabric Lambda'
+plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:17 w l t 'mu '.m
+unset multiplot
+GP
+    echo "figures: $out/ch3_fig3_5_6.png (mu = $one), $out/ch3_fig3_7_8.png"
+  fi
   gnuplot <<GP || true
 set terminal pngcairo size 1000,420 noenhanced
 set output '$out/ch3_trends.png'
