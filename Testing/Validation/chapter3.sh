@@ -7,7 +7,8 @@
 # frictional run is homogeneous next to the moving faces (mean mobilisation_face_ratio on loading
 # within 0.2 of 1, the thesis' check of Sec. 3.2.2). Then chapter3-eigen.py compares the eigenvalues,
 # eigenvector angles and shape factors with Sec. 3.4.3 (Fig. 3.5-3.9; reported, not gated) and gnuplot
-# draws ch3_trends.png, ch3_fig3_5_6.png and ch3_fig3_7_8.png.
+# draws ch3_trends.png, ch3_fig3_5_6.png and ch3_fig3_7_8.png; chapter3-mobilisation.py does the same
+# for the weak / strong contacts and their sliding of Sec. 3.4.4 (Fig. 3.11-3.13; ch3_fig3_11_13.png).
 # Usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [extra driver flags, e.g. --particles 2197]
 #   MUS="0 0.1 ..." the friction coefficients (default: the thesis' nine); JOBS=N runs N at once
 #   (use JOBS=2 with THREADS=1 on a 2-core machine); ANALYSE_ONLY=1 only re-reads OUT_DIR.
@@ -111,7 +112,30 @@ sys.exit(0 if ok else 1)
 PY
 # Sec. 3.4.3 (Fig. 3.5-3.9): eigenvalues, eigenvector angles and shape factors; reported, not gated
 python3 "$(dirname "$0")/chapter3-eigen.py" "$out" $mus || { echo "chapter3-eigen.py failed" >&2; rc=1; }
+# Sec. 3.4.4 (Fig. 3.11-3.13): weak / strong contacts and friction mobilisation; reported, not gated
+python3 "$(dirname "$0")/chapter3-mobilisation.py" "$out" $mus || { echo "chapter3-mobilisation.py failed" >&2; rc=1; }
 if command -v gnuplot >/dev/null; then
+  mob=""; for mu in $mus; do [[ -f "$out/ch3_mobil_mu$mu.dat" ]] && mob="$mob $mu"; done
+  if [[ -n "$mob" ]]; then
+    gnuplot <<GP || true
+set terminal pngcairo size 1100,800 noenhanced
+set output '$out/ch3_fig3_11_13.png'
+set linetype 9 lc rgb '#808080' dt 2 lw 2
+set multiplot layout 2,2 title 'weak (f_n < <f_n>) and strong contacts, sliding (at the Coulomb limit) and sticking, against tau = t/T'
+set xlabel 'tau'
+set key font ',8'
+set ylabel 'weak contacts / all (Fig. 3.11a)'
+plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:2 w l t 'mu '.m
+set ylabel 'weak sliding / weak (Fig. 3.12a)'
+plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:3 w l t 'mu '.m
+set ylabel 'strong sticking / strong (Fig. 3.12b)'
+plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:4 w l t 'mu '.m
+set ylabel 'weak sliding / sliding (Fig. 3.13a)'
+plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:5 w l t 'mu '.m
+unset multiplot
+GP
+    echo "figure: $out/ch3_fig3_11_13.png"
+  fi
   eig=""; for mu in $mus; do [[ -f "$out/ch3_eigen_mu$mu.dat" ]] && eig="$eig $mu"; done
   one="0.1"; [[ -f "$out/ch3_eigen_mu$one.dat" ]] || one="${eig%% *}"; one="${one# }"
   if [[ -n "$eig" ]]; then
