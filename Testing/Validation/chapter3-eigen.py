@@ -71,7 +71,8 @@ def analyse(path):
     late = [r for r in load if float(r["eps_dev"]) >= 0.03]  # after the initial alignment
     out = {}
     out["theta1_s_settles_at"] = settle_strain(load, "sig_theta1", 10.0)
-    out["stress_l2_l3_gap"] = median_of(late, lambda r: abs(float(r["sig_l2"]) - float(r["sig_l3"])) / float(r["sig_l1"]))
+    out["stress_l2_l3_gap"] = median_of(late, lambda r: abs(float(r["sig_l2"]) - float(r["sig_l3"])) / float(r["sig_l1"])
+                                        if float(r["sig_l1"]) > 0 else NAN)
     out["Lambda_s_end_load"] = mean_last(load, "sig_Lambda")
     out["Lambda_f_end_load"] = mean_last(load, "fab_Lambda")
     out["Lambda_s_end_unload"] = mean_last(unload, "sig_Lambda")
@@ -128,19 +129,30 @@ def main():
         sys.exit("usage: chapter3-eigen.py OUT_DIR MU [MU ...]")
     out_dir = sys.argv[1]
     res = []
+    old_files = 0
     for mu in sys.argv[2:]:
         path = f"{out_dir}/UNI_mu{mu}.macro.csv"
+        plot = f"{out_dir}/ch3_eigen_mu{mu}.dat"
+        if os.path.exists(plot):
+            os.remove(plot)  # a run left out this time must not be drawn from an older analysis
         if not os.path.exists(path) or os.path.exists(f"{out_dir}/UNI_mu{mu}.failed"):
             print(f"mu = {mu}: no run, left out")
             continue
         try:
             a, rows = analyse(path)
-        except (KeyError, ValueError) as e:  # files written before the eigen columns existed
+        except KeyError as e:  # files written before the eigen columns existed
+            print(f"mu = {mu}: {path} has no column {e} (written by an older driver), left out")
+            old_files += 1
+            continue
+        except ValueError as e:
             print(f"mu = {mu}: {path} cannot be analysed ({e}), left out")
             continue
-        write_plot_file(f"{out_dir}/ch3_eigen_mu{mu}.dat", rows)
+        write_plot_file(plot, rows)
         res.append((float(mu), mu, a))
     if not res:
+        if old_files:
+            print("eigen analysis: only files without the eigen columns; not analysed")
+            return
         sys.exit("no run could be read")
     res.sort()
     keys = list(res[0][2].keys())
@@ -155,13 +167,18 @@ def main():
     for k in keys:
         print(f"{k:<{w}} " + " ".join(f"{a[k]:9.4g}" for _, _, a in res))
     # the Fig. 3.9 collapse: the three stress-derived crossings of each mu, their largest spread
-    spread = max(max(a[k] for k in ("theta1_s_45_at", "s_dev_zero_at", "Lambda_s_zero_at"))
-                 - min(a[k] for k in ("theta1_s_45_at", "s_dev_zero_at", "Lambda_s_zero_at")) for _, _, a in res)
+    three = ("theta1_s_45_at", "s_dev_zero_at", "Lambda_s_zero_at")
+    spreads = []
+    for _, _, a in res:
+        v = [a[k] for k in three if a[k] == a[k]]
+        if len(v) == len(three):
+            spreads.append(max(v) - min(v))
     print(f"Fig. 3.9: largest spread of the three stress crossings (theta1 = 45 deg, s_dev = 0, Lambda = 0) "
-          f"over the runs: {spread:.4f} in eps_dev")
-    z = [a["s_dev_zero_at"] for _, _, a in res]
-    mono = all(b <= a_ + 1e-9 for a_, b in zip(z, z[1:]))
-    print(f"Fig. 3.9: crossing strain non-increasing with mu: {mono} ({', '.join(f'{x:.4f}' for x in z)})")
+          + (f"over the {len(spreads)} runs where all three exist: {max(spreads):.4f} in eps_dev" if spreads else ": no run has all three"))
+    for k in three:
+        z = [a[k] for _, _, a in res if a[k] == a[k]]
+        mono = all(b <= a_ + 1e-9 for a_, b in zip(z, z[1:]))
+        print(f"Fig. 3.9: {k} non-increasing with mu: {mono} ({', '.join(f'{x:.4f}' for x in z)})")
 
 
 if __name__ == "__main__":

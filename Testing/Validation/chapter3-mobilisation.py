@@ -18,7 +18,8 @@ What the thesis says:
   * Fig. 3.12a: the share of weak contacts that slide grows on loading, peaks, and falls towards zero at
     tau = 0.5; the peak falls with mu; on unloading a second, higher peak; always well below 50 %;
   * Fig. 3.12b: the share of strong contacts that stick falls on loading to a minimum and rises again
-    towards tau = 0.5; the minimum falls with mu and is lower on unloading;
+    towards tau = 0.5; "the rate of decrease and the minima reached decrease with increasing friction"
+    (read literally: the minimum falls with mu); the minima are lower on unloading;
   * Fig. 3.13: more than half of the sliding contacts are weak; a little less than half of the sticking
     contacts are strong.
 """
@@ -99,27 +100,40 @@ def main():
         sys.exit("usage: chapter3-mobilisation.py OUT_DIR MU [MU ...]")
     out_dir = sys.argv[1]
     res = []
+    frictional = old_files = 0
     for mu in sys.argv[2:]:
         path = f"{out_dir}/UNI_mu{mu}.macro.csv"
+        plot = f"{out_dir}/ch3_mobil_mu{mu}.dat"
+        if os.path.exists(plot):
+            os.remove(plot)  # a run left out this time must not be drawn from an older analysis
         if float(mu) == 0:
             continue  # frictionless: nothing slides
+        frictional += 1
         if not os.path.exists(path) or os.path.exists(f"{out_dir}/UNI_mu{mu}.failed"):
             print(f"mu = {mu}: no run, left out")
             continue
         try:
             s = series(list(csv.DictReader(open(path))))
             a = analyse(s)
-        except (KeyError, ValueError) as e:
+        except KeyError as e:
+            print(f"mu = {mu}: {path} has no column {e} (written by an older driver), left out")
+            old_files += 1
+            continue
+        except ValueError as e:
             print(f"mu = {mu}: {path} cannot be analysed ({e}), left out")
             continue
-        tmp = f"{out_dir}/ch3_mobil_mu{mu}.dat.tmp"
+        tmp = plot + ".tmp"
         with open(tmp, "w") as f:
             f.write("# tau weak_fraction wsl/w sst/s wsl/sl sst/st\n")
             for x in s:
                 f.write(" ".join(f"{v:.6g}" for v in x) + "\n")
-        os.replace(tmp, f"{out_dir}/ch3_mobil_mu{mu}.dat")
+        os.replace(tmp, plot)
         res.append((float(mu), mu, a))
     if not res:
+        if frictional == 0 or old_files:
+            print("mobilisation analysis: " + ("no frictional run requested" if frictional == 0 else
+                  "only files without the mobilisation columns") + "; not analysed")
+            return
         sys.exit("no frictional run could be read")
     res.sort()
     keys = list(res[0][2].keys())

@@ -118,10 +118,10 @@ if command -v gnuplot >/dev/null; then
   mob=""; for mu in $mus; do [[ -f "$out/ch3_mobil_mu$mu.dat" ]] && mob="$mob $mu"; done
   if [[ -n "$mob" ]]; then
     gnuplot <<GP || true
-set terminal pngcairo size 1100,800 noenhanced
+set terminal pngcairo size 1400,800 noenhanced
 set output '$out/ch3_fig3_11_13.png'
 set linetype 9 lc rgb '#808080' dt 2 lw 2
-set multiplot layout 2,2 title 'weak (f_n < <f_n>) and strong contacts, sliding (at the Coulomb limit) and sticking, against tau = t/T'
+set multiplot layout 2,3 title 'weak (f_n < <f_n>) and strong contacts, sliding (at the Coulomb limit) and sticking, against tau = t/T'
 set xlabel 'tau'
 set key font ',8'
 set ylabel 'weak contacts / all (Fig. 3.11a)'
@@ -132,12 +132,14 @@ set ylabel 'strong sticking / strong (Fig. 3.12b)'
 plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:4 w l t 'mu '.m
 set ylabel 'weak sliding / sliding (Fig. 3.13a)'
 plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:5 w l t 'mu '.m
+set ylabel 'strong sticking / sticking (Fig. 3.13b)'
+plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:6 w l t 'mu '.m
 unset multiplot
 GP
     echo "figure: $out/ch3_fig3_11_13.png"
   fi
   eig=""; for mu in $mus; do [[ -f "$out/ch3_eigen_mu$mu.dat" ]] && eig="$eig $mu"; done
-  one="0.1"; [[ -f "$out/ch3_eigen_mu$one.dat" ]] || one="${eig%% *}"; one="${one# }"
+  one="0.1"; if [[ ! -f "$out/ch3_eigen_mu$one.dat" ]]; then one="${eig# }"; one="${one%% *}"; fi
   if [[ -n "$eig" ]]; then
     gnuplot <<GP || true
 set terminal pngcairo size 1100,800 noenhanced
