@@ -939,15 +939,20 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // mismatch is what the baseline cannot imitate of the noise-free shape the data support.
             // Fitted to the noisy record instead, the baseline follows the slow (correlated) part of
             // the noise, which moves the difference between phases (the benchmark truth uses the
-            // same definition with the true noise-free curve).
-            const Fitter Fs{M, fm.model, F.inflation, F.whitener, F.alwaysFixed};
-            auto stB = nested(R.onBaseline, R.pBaseline);
-            stB.push_back(fb0.p);
-            const FitResult fb = Fs.fit(onB, stB);
-            explained.resize(n);
-            for (std::size_t i = 0; i < n; ++i) {
-                explained[i] = fm.model[i] - fb.model[i];
-                resid[i] = y[i] - fb.model[i];  // the same reference for the rest: resid - explained = y - fm
+            // same definition with the true noise-free curve). A fit that fails from every start
+            // leaves no curve; the windows then come from the residual alone.
+            if (fm.model.size() == n) {
+                const Fitter Fs{M, fm.model, F.inflation, F.whitener, F.alwaysFixed};
+                auto stB = nested(R.onBaseline, R.pBaseline);
+                stB.push_back(fb0.p);
+                const FitResult fb = Fs.fit(onB, stB);
+                if (fb.model.size() == n) {
+                    explained.resize(n);
+                    for (std::size_t i = 0; i < n; ++i) {
+                        explained[i] = fm.model[i] - fb.model[i];
+                        resid[i] = y[i] - fb.model[i];  // the same reference for the rest: resid - explained = y - fm
+                    }
+                }
             }
         }
         // once mechanisms are added and the final residual passes the noise test, the rest is noise
