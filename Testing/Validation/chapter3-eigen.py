@@ -24,10 +24,11 @@ What the thesis says (mu = 0.1 for Fig. 3.5/3.6, all mu for Fig. 3.7-3.9):
     fabric theta1 mostly at 90 deg on loading, turning towards 0 on unloading.
 """
 import csv
-import math
 import os
 import statistics
 import sys
+
+from ch3common import write_table
 
 NAN = float("nan")
 
@@ -155,17 +156,7 @@ def main():
             return
         sys.exit("no run could be read")
     res.sort()
-    keys = list(res[0][2].keys())
-    tmp = f"{out_dir}/ch3_eigen.csv.tmp"
-    with open(tmp, "w") as f:
-        f.write("mu," + ",".join(keys) + "\n")
-        for m, _, a in res:
-            f.write(f"{m:g}," + ",".join(f"{a[k]:.6g}" for k in keys) + "\n")
-    os.replace(tmp, f"{out_dir}/ch3_eigen.csv")
-    w = max(len(k) for k in keys)
-    print(f"{'quantity':<{w}} " + " ".join(f"{'mu=' + s:>9}" for _, s, _ in res))
-    for k in keys:
-        print(f"{k:<{w}} " + " ".join(f"{a[k]:9.4g}" for _, _, a in res))
+    write_table(f"{out_dir}/ch3_eigen.csv", res)
     # the Fig. 3.9 collapse: the three stress-derived crossings of each mu, their largest spread
     three = ("theta1_s_45_at", "s_dev_zero_at", "Lambda_s_zero_at")
     spreads = []

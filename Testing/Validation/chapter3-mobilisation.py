@@ -27,6 +27,8 @@ import csv
 import os
 import sys
 
+from ch3common import extreme, finite, write_table
+
 NAN = float("nan")
 
 
@@ -45,10 +47,6 @@ def series(rows):
         wsl, wst, ssl, sst = (float(r[k]) for k in ("f_wsl", "f_wst", "f_ssl", "f_sst"))
         out.append((tau, w, ratio(wsl, wsl + wst), ratio(sst, ssl + sst), ratio(wsl, wsl + ssl), ratio(sst, wst + sst)))
     return out
-
-
-def finite(v):
-    return [x for x in v if x == x]
 
 
 def smoothed(rows, k, h=4):
@@ -74,18 +72,12 @@ def analyse(s):
     a["weak_start"] = sum(x[1] for x in load[:3]) / 3
     a["weak_reversal"] = load[-1][1]
     a["weak_end"] = sum(x[1] for x in unload[-3:]) / 3
-    wl = finite(x[2] for x in load)
-    wu = finite(x[2] for x in unload)
-    a["wsl_w_peak_load"] = max(wl) if wl else NAN
-    a["wsl_w_peak_load_tau"] = next((x[0] for x in load if x[2] == a["wsl_w_peak_load"]), NAN)
+    a["wsl_w_peak_load"], a["wsl_w_peak_load_tau"] = extreme(load, 2, max)
     a["wsl_w_at_reversal"] = load[-1][2]
-    a["wsl_w_peak_unload"] = max(wu) if wu else NAN
-    sl = finite(x[3] for x in load)
-    su = finite(x[3] for x in unload)
-    a["sst_s_min_load"] = min(sl) if sl else NAN
-    a["sst_s_min_load_tau"] = next((x[0] for x in load if x[3] == a["sst_s_min_load"]), NAN)
+    a["wsl_w_peak_unload"] = extreme(unload, 2, max)[0]
+    a["sst_s_min_load"], a["sst_s_min_load_tau"] = extreme(load, 3, min)
     a["sst_s_at_reversal"] = load[-1][3]
-    a["sst_s_min_unload"] = min(su) if su else NAN
+    a["sst_s_min_unload"] = extreme(unload, 3, min)[0]
     # Fig. 3.13: shares among the sliding / sticking contacts, over the rows where any contact slides
     ws = finite(x[4] for x in s)
     a["wsl_sl_median"] = sorted(ws)[len(ws) // 2] if ws else NAN
@@ -136,17 +128,7 @@ def main():
             return
         sys.exit("no frictional run could be read")
     res.sort()
-    keys = list(res[0][2].keys())
-    tmp = f"{out_dir}/ch3_mobilisation.csv.tmp"
-    with open(tmp, "w") as f:
-        f.write("mu," + ",".join(keys) + "\n")
-        for m, _, a in res:
-            f.write(f"{m:g}," + ",".join(f"{a[k]:.6g}" for k in keys) + "\n")
-    os.replace(tmp, f"{out_dir}/ch3_mobilisation.csv")
-    w = max(len(k) for k in keys)
-    print(f"{'quantity':<{w}} " + " ".join(f"{'mu=' + s:>9}" for _, s, _ in res))
-    for k in keys:
-        print(f"{k:<{w}} " + " ".join(f"{a[k]:9.4g}" for _, _, a in res))
+    write_table(f"{out_dir}/ch3_mobilisation.csv", res)
 
 
 if __name__ == "__main__":
