@@ -30,3 +30,38 @@ def write_table(path, res):
     print(f"{'quantity':<{w}} " + " ".join(f"{'mu=' + s:>9}" for _, s, _ in res))
     for k in keys:
         print(f"{k:<{w}} " + " ".join(f"{a[k]:9.4g}" for _, _, a in res))
+
+
+def analyse_runs(out_dir, mus, plot_prefix, analyse_one, what, skip=lambda mu: False):
+    """Runs analyse_one(macro_csv_path, plot_path) -> {quantity: value} (it also writes plot_path) for
+    every mu of MUS that is not skipped, with OUT_DIR/UNI_muX.macro.csv present and no .failed marker.
+    A plot file of an earlier analysis is removed first, so a run left out this time is not drawn.
+    Returns [(mu as float, mu as given, result)] sorted by mu; an empty list when nothing was to be
+    analysed (every mu skipped, or only files of an older driver without the columns); exits with
+    status 1 when no requested run could be read."""
+    res = []
+    wanted = old_files = 0
+    for mu in mus:
+        path = f"{out_dir}/UNI_mu{mu}.macro.csv"
+        plot = f"{out_dir}/{plot_prefix}{mu}.dat"
+        if os.path.exists(plot):
+            os.remove(plot)
+        if skip(mu):
+            continue
+        wanted += 1
+        if not os.path.exists(path) or os.path.exists(f"{out_dir}/UNI_mu{mu}.failed"):
+            print(f"mu = {mu}: no run, left out")
+            continue
+        try:
+            res.append((float(mu), mu, analyse_one(path, plot)))
+        except KeyError as e:
+            print(f"mu = {mu}: {path} has no column {e} (written by an older driver), left out")
+            old_files += 1
+        except ValueError as e:
+            print(f"mu = {mu}: {path} cannot be analysed ({e}), left out")
+    if not res:
+        if wanted == 0 or old_files:
+            print(f"{what}: " + ("no run requested" if wanted == 0 else "only files without its columns") + "; not analysed")
+            return []
+        raise SystemExit(f"{what}: no run could be read")
+    return sorted(res)

@@ -28,7 +28,7 @@ import os
 import statistics
 import sys
 
-from ch3common import write_table
+from ch3common import analyse_runs, write_table
 
 NAN = float("nan")
 
@@ -129,33 +129,15 @@ def main():
     if len(sys.argv) < 3:
         sys.exit("usage: chapter3-eigen.py OUT_DIR MU [MU ...]")
     out_dir = sys.argv[1]
-    res = []
-    old_files = 0
-    for mu in sys.argv[2:]:
-        path = f"{out_dir}/UNI_mu{mu}.macro.csv"
-        plot = f"{out_dir}/ch3_eigen_mu{mu}.dat"
-        if os.path.exists(plot):
-            os.remove(plot)  # a run left out this time must not be drawn from an older analysis
-        if not os.path.exists(path) or os.path.exists(f"{out_dir}/UNI_mu{mu}.failed"):
-            print(f"mu = {mu}: no run, left out")
-            continue
-        try:
-            a, rows = analyse(path)
-        except KeyError as e:  # files written before the eigen columns existed
-            print(f"mu = {mu}: {path} has no column {e} (written by an older driver), left out")
-            old_files += 1
-            continue
-        except ValueError as e:
-            print(f"mu = {mu}: {path} cannot be analysed ({e}), left out")
-            continue
+
+    def one(path, plot):
+        a, rows = analyse(path)
         write_plot_file(plot, rows)
-        res.append((float(mu), mu, a))
+        return a
+
+    res = analyse_runs(out_dir, sys.argv[2:], "ch3_eigen_mu", one, "eigen analysis")
     if not res:
-        if old_files:
-            print("eigen analysis: only files without the eigen columns; not analysed")
-            return
-        sys.exit("no run could be read")
-    res.sort()
+        return
     write_table(f"{out_dir}/ch3_eigen.csv", res)
     # the Fig. 3.9 collapse: the three stress-derived crossings of each mu, their largest spread
     three = ("theta1_s_45_at", "s_dev_zero_at", "Lambda_s_zero_at")

@@ -27,7 +27,7 @@ import csv
 import os
 import sys
 
-from ch3common import extreme, finite, write_table
+from ch3common import analyse_runs, extreme, finite, write_table
 
 NAN = float("nan")
 
@@ -91,43 +91,22 @@ def main():
     if len(sys.argv) < 3:
         sys.exit("usage: chapter3-mobilisation.py OUT_DIR MU [MU ...]")
     out_dir = sys.argv[1]
-    res = []
-    frictional = old_files = 0
-    for mu in sys.argv[2:]:
-        path = f"{out_dir}/UNI_mu{mu}.macro.csv"
-        plot = f"{out_dir}/ch3_mobil_mu{mu}.dat"
-        if os.path.exists(plot):
-            os.remove(plot)  # a run left out this time must not be drawn from an older analysis
-        if float(mu) == 0:
-            continue  # frictionless: nothing slides
-        frictional += 1
-        if not os.path.exists(path) or os.path.exists(f"{out_dir}/UNI_mu{mu}.failed"):
-            print(f"mu = {mu}: no run, left out")
-            continue
-        try:
-            s = series(list(csv.DictReader(open(path))))
-            a = analyse(s)
-        except KeyError as e:
-            print(f"mu = {mu}: {path} has no column {e} (written by an older driver), left out")
-            old_files += 1
-            continue
-        except ValueError as e:
-            print(f"mu = {mu}: {path} cannot be analysed ({e}), left out")
-            continue
+
+    def one(path, plot):
+        s = series(list(csv.DictReader(open(path))))
+        a = analyse(s)
         tmp = plot + ".tmp"
         with open(tmp, "w") as f:
             f.write("# tau weak_fraction wsl/w sst/s wsl/sl sst/st\n")
             for x in s:
                 f.write(" ".join(f"{v:.6g}" for v in x) + "\n")
         os.replace(tmp, plot)
-        res.append((float(mu), mu, a))
+        return a
+
+    # frictionless runs are skipped: nothing slides
+    res = analyse_runs(out_dir, sys.argv[2:], "ch3_mobil_mu", one, "mobilisation analysis", skip=lambda mu: float(mu) == 0)
     if not res:
-        if frictional == 0 or old_files:
-            print("mobilisation analysis: " + ("no frictional run requested" if frictional == 0 else
-                  "only files without the mobilisation columns") + "; not analysed")
-            return
-        sys.exit("no frictional run could be read")
-    res.sort()
+        return
     write_table(f"{out_dir}/ch3_mobilisation.csv", res)
 
 
