@@ -124,16 +124,12 @@ set linetype 9 lc rgb '#808080' dt 2 lw 2
 set multiplot layout 2,3 title 'weak (f_n < <f_n>) and strong contacts, sliding (at the Coulomb limit) and sticking, against tau = t/T'
 set xlabel 'tau'
 set key font ',8'
-set ylabel 'weak contacts / all (Fig. 3.11a)'
-plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:2 w l t 'mu '.m
-set ylabel 'weak sliding / weak (Fig. 3.12a)'
-plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:3 w l t 'mu '.m
-set ylabel 'strong sticking / strong (Fig. 3.12b)'
-plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:4 w l t 'mu '.m
-set ylabel 'weak sliding / sliding (Fig. 3.13a)'
-plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:5 w l t 'mu '.m
-set ylabel 'strong sticking / sticking (Fig. 3.13b)'
-plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:6 w l t 'mu '.m
+array C[5] = [2, 3, 4, 5, 6]
+array L[5] = ['weak contacts / all (Fig. 3.11a)', 'weak sliding / weak (Fig. 3.12a)', 'strong sticking / strong (Fig. 3.12b)', 'weak sliding / sliding (Fig. 3.13a)', 'strong sticking / sticking (Fig. 3.13b)']
+do for [i=1:5] {
+  set ylabel L[i]
+  plot for [m in "$mob"] sprintf('$out/ch3_mobil_mu%s.dat', m) u 1:(column(C[i])) w l t 'mu '.m
+}
 unset multiplot
 GP
     echo "figure: $out/ch3_fig3_11_13.png"
@@ -165,21 +161,14 @@ set output '$out/ch3_fig3_7_8.png'
 set linetype 9 lc rgb '#808080' dt 2 lw 2
 set multiplot layout 2,3 title 'angle of the largest eigenvector to z against tau = t/T (reversal at 0.5), and shape factors Lambda = l2/l1'
 set xlabel 'tau'
-set yrange [0:90]
 set key bottom right font ',8'
-set ylabel 'stress theta1, all contacts (deg)'
-plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:7 w l t 'mu '.m
-set ylabel 'fabric theta1, all contacts (deg)'
-plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:14 w l t 'mu '.m
-set ylabel 'fabric theta1, strong contacts (deg)'
-plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:20 w l t 'mu '.m
-set ylabel 'fabric theta1, weak contacts (deg)'
-plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:21 w l t 'mu '.m
-set yrange [-1:1]
-set ylabel 'stress Lambda'
-plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:10 w l t 'mu '.m
-set ylabel 'fabric Lambda'
-plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:17 w l t 'mu '.m
+array C[6] = [7, 14, 20, 21, 10, 17]
+array L[6] = ['stress theta1, all contacts (deg)', 'fabric theta1, all contacts (deg)', 'fabric theta1, strong contacts (deg)', 'fabric theta1, weak contacts (deg)', 'stress Lambda', 'fabric Lambda']
+do for [i=1:6] {
+  if (i <= 4) { set yrange [0:90] } else { set yrange [-1:1] }
+  set ylabel L[i]
+  plot for [m in "$eig"] sprintf('$out/ch3_eigen_mu%s.dat', m) u 1:(column(C[i])) w l t 'mu '.m
+}
 unset multiplot
 GP
     echo "figures: $out/ch3_fig3_5_6.png (mu = $one), $out/ch3_fig3_7_8.png"
