@@ -1,5 +1,6 @@
 """Helpers shared by the chapter-3 analysis scripts (chapter3-eigen.py, chapter3-mobilisation.py)."""
 import os
+import sys
 
 
 def finite(values):
@@ -57,7 +58,9 @@ def analyse_runs(out_dir, mus, plot_prefix, analyse_one, what, skip=lambda mu: F
         except KeyError as e:
             print(f"mu = {mu}: {path} has no column {e} (written by an older driver), left out")
             old_files += 1
-        except ValueError as e:
+        except TypeError:  # csv gives None for the fields missing from a short row
+            print(f"mu = {mu}: {path} has a row with missing fields (truncated file?), left out")
+        except (ValueError, ZeroDivisionError) as e:
             print(f"mu = {mu}: {path} cannot be analysed ({e}), left out")
     if not res:
         if wanted == 0 or old_files:
@@ -65,3 +68,9 @@ def analyse_runs(out_dir, mus, plot_prefix, analyse_one, what, skip=lambda mu: F
             return []
         raise SystemExit(f"{what}: no run could be read")
     return sorted(res)
+
+
+def usage(text):
+    """A wrong command line: one line on stderr, exit code 2 (the project's rule for bad input)."""
+    print(text, file=sys.stderr)
+    raise SystemExit(2)

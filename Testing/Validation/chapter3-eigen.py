@@ -28,7 +28,7 @@ import os
 import statistics
 import sys
 
-from ch3common import analyse_runs, write_table
+from ch3common import analyse_runs, usage, write_table
 
 NAN = float("nan")
 
@@ -127,7 +127,7 @@ def write_plot_file(path, rows):
 
 def main():
     if len(sys.argv) < 3:
-        sys.exit("usage: chapter3-eigen.py OUT_DIR MU [MU ...]")
+        usage("usage: chapter3-eigen.py OUT_DIR MU [MU ...]")
     out_dir = sys.argv[1]
 
     def one(path, plot):

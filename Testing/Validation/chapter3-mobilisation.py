@@ -27,7 +27,7 @@ import csv
 import os
 import sys
 
-from ch3common import analyse_runs, extreme, finite, write_table
+from ch3common import analyse_runs, usage, extreme, finite, write_table
 
 NAN = float("nan")
 
@@ -89,7 +89,7 @@ def analyse(s):
 
 def main():
     if len(sys.argv) < 3:
-        sys.exit("usage: chapter3-mobilisation.py OUT_DIR MU [MU ...]")
+        usage("usage: chapter3-mobilisation.py OUT_DIR MU [MU ...]")
     out_dir = sys.argv[1]
 
     def one(path, plot):
