@@ -4,6 +4,7 @@
 //   CASE threads=T particle_steps_per_s=X bytes_per_particle=Y
 #pragma once
 #include <omp.h>
+#include <malloc.h>
 
 #include <chrono>
 #include <cstdio>
@@ -93,6 +94,9 @@ protected:
             for (const char* key : {"VmHWM", "VmRSS", "RssAnon", "RssFile"})
                 if (line.rfind(key, 0) == 0) out += " " + line;
         std::fprintf(stderr, "%s memory at %s, step %ld:%s\n", tag_.c_str(), where, step(), out.c_str());
+        const struct mallinfo2 mi = mallinfo2();
+        std::fprintf(stderr, "  heap arena %zu kB, in use %zu kB, free %zu kB, mmapped %zu kB (%zu blocks), top %zu kB, kernel %zu kB\n",
+                     mi.arena / 1024, mi.uordblks / 1024, mi.fordblks / 1024, mi.hblkhd / 1024, mi.hblks, mi.keepcost / 1024, memoryBytes() / 1024);
     }
     /// Volume in which the volume fraction of the summary line is measured.
     virtual double measuredVolume() const = 0;

@@ -931,7 +931,8 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     if (!o[u]) st.push_back(startsFor(M, u, p).front());
                 return st;
             };
-            const FitResult fb0 = F.fit(onB, nested(R.onBaseline, R.pBaseline));
+            const auto stB0 = nested(R.onBaseline, R.pBaseline);
+            const FitResult fb0 = F.fit(onB, stB0);
             auto stM = nested(on, cur.p);
             stM.push_back(fb0.p);
             const FitResult fm = F.fit(onM, stM);
@@ -943,7 +944,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // leaves no curve; the windows then come from the residual alone.
             if (fm.model.size() == n) {
                 const Fitter Fs{M, fm.model, F.inflation, F.whitener, F.alwaysFixed};
-                auto stB = nested(R.onBaseline, R.pBaseline);
+                auto stB = stB0;
                 stB.push_back(fb0.p);
                 const FitResult fb = Fs.fit(onB, stB);
                 if (fb.model.size() == n) {
