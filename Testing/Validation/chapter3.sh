@@ -8,7 +8,10 @@
 # within 0.2 of 1, the thesis' check of Sec. 3.2.2). Then chapter3-eigen.py compares the eigenvalues,
 # eigenvector angles and shape factors with Sec. 3.4.3 (Fig. 3.5-3.9; reported, not gated) and gnuplot
 # draws ch3_trends.png, ch3_fig3_5_6.png and ch3_fig3_7_8.png; chapter3-mobilisation.py does the same
-# for the weak / strong contacts and their sliding of Sec. 3.4.4 (Fig. 3.11-3.13; ch3_fig3_11_13.png).
+# for the weak / strong contacts and their sliding of Sec. 3.4.4 (Fig. 3.11-3.13; ch3_fig3_11_13.png),
+# and, for runs with --fstat 1, chapter3-polar.py for the directional statistics of Sec. 3.4.5 and 3.5
+# (Fig. 3.14-3.16, via pdpm-polar; ch3_fig3_14.png, ch3_fig3_15.png, ch3_fig3_16.png) and
+# chapter3-pairs.py for the contact pairs followed through the cycle (Fig. 3.10; ch3_fig3_10.png).
 # Usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [extra driver flags, e.g. --particles 2197]
 #   MUS="0 0.1 ..." the friction coefficients (default: the thesis' nine); JOBS=N runs N at once
 #   (use JOBS=2 with THREADS=1 on a 2-core machine); ANALYSE_ONLY=1 only re-reads OUT_DIR.
@@ -114,6 +117,13 @@ PY
 python3 "$(dirname "$0")/chapter3-eigen.py" "$out" $mus || { echo "chapter3-eigen.py failed" >&2; rc=1; }
 # Sec. 3.4.4 (Fig. 3.11-3.13): weak / strong contacts and friction mobilisation; reported, not gated
 python3 "$(dirname "$0")/chapter3-mobilisation.py" "$out" $mus || { echo "chapter3-mobilisation.py failed" >&2; rc=1; }
+# Sec. 3.4.5 / 3.5 (Fig. 3.14-3.16): directional force pdf, polar distributions and the anisotropy
+# descriptors eps2, eps4, eps6; Sec. 3.4.4 (Fig. 3.10): contact pairs followed through the cycle; both
+# need RUN.fstat (pass --fstat 1 among the driver flags); reported, not gated
+if ls "$out"/UNI_mu*.fstat >/dev/null 2>&1; then
+  python3 "$(dirname "$0")/chapter3-polar.py" "$bin" "$out" $mus || { echo "chapter3-polar.py failed" >&2; rc=1; }
+  python3 "$(dirname "$0")/chapter3-pairs.py" "$out" $mus || { echo "chapter3-pairs.py failed" >&2; rc=1; }
+fi
 if command -v gnuplot >/dev/null; then
   mob=""; for mu in $mus; do [[ -f "$out/ch3_mobil_mu$mu.dat" ]] && mob="$mob $mu"; done
   if [[ -n "$mob" ]]; then
