@@ -4,7 +4,6 @@
 //   CASE threads=T particle_steps_per_s=X bytes_per_particle=Y
 #pragma once
 #include <omp.h>
-#include <malloc.h>
 
 #include <chrono>
 #include <cstdio>
@@ -13,6 +12,11 @@
 #include <fstream>
 #include <numbers>
 #include <string>
+// mallinfo2 (the heap figures of PDPM_MEMTRACE) exists from glibc 2.33 on; <cstdio> defines __GLIBC__
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+#include <malloc.h>
+#define PDPM_HAVE_MALLINFO2 1
+#endif
 
 #include "Core/DPMBase.h"
 #include "Core/Error.h"
@@ -94,9 +98,11 @@ protected:
             for (const char* key : {"VmHWM", "VmRSS", "RssAnon", "RssFile"})
                 if (line.rfind(key, 0) == 0) out += " " + line;
         std::fprintf(stderr, "%s memory at %s, step %ld:%s\n", tag_.c_str(), where, step(), out.c_str());
+#ifdef PDPM_HAVE_MALLINFO2
         const struct mallinfo2 mi = mallinfo2();
         std::fprintf(stderr, "  heap arena %zu kB, in use %zu kB, free %zu kB, mmapped %zu kB (%zu blocks), top %zu kB, kernel %zu kB\n",
                      mi.arena / 1024, mi.uordblks / 1024, mi.fordblks / 1024, mi.hblkhd / 1024, mi.hblks, mi.keepcost / 1024, memoryBytes() / 1024);
+#endif
     }
     /// Volume in which the volume fraction of the summary line is measured.
     virtual double measuredVolume() const = 0;

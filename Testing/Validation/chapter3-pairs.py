@@ -5,14 +5,17 @@ f* = f_n/<f_n> and f_t/(mu f_n) against tau, from OUT_DIR/UNI_muX.fstat of a cha
 
 The thesis shows two pairs "randomly selected from the ensemble", both weak and sliding at the start.
 Here every pair in contact at tau = 0 is followed, which turns the two anecdotes into fractions:
-  * ws-rule: share of the samples (pair, block) with f* < 1 that slide (f_t >= (1 - 1e-9) mu f_n, the
-    fstat's sliding flag) against the share of the samples with f* >= 1 that slide;
+  * ws-rule ("sliding is mostly active at weak contacts, while stronger contacts stay in the sticking
+    regime"): share of the samples (contact, block) with f* < 1 that slide (the fstat's sliding flag,
+    f_t at the Coulomb limit), share of those with f* >= 1 that slide, and share of the sliding samples
+    that are weak;
   * contacts lost and recovered: share of the pairs that open (absent from a later block) and close
     again before tau = 1 (pair 1 of Fig. 3.10a opens at tau ~ 0.36 and closes at ~ 0.7);
   * sliding of strong contacts (ssl) and sticking of weak ones (wst) happen (the exceptions the thesis
     names);
-and two pairs chosen with a fixed seed among those weak at tau = 0 and sliding at some tau <= 0.1 are
-drawn like Fig. 3.10.
+and two pairs like the thesis' are drawn (Fig. 3.10): weak at tau = 0 and sliding at some tau <= 0.1, the
+first also strong (f* > 1) at some time, the second also opening and closing again (chosen with a fixed
+seed; without such a candidate, any weak-and-sliding pair).
 
 Usage: chapter3-pairs.py OUT_DIR MU [MU ...]   (mu = 0 is left out: no friction to mobilise)
 Writes OUT_DIR/ch3_pairs.csv (one row per mu), OUT_DIR/ch3_pair_muX_K.dat and, with gnuplot,
@@ -99,11 +102,24 @@ def analyse(out, mu_s):
             opened += 1
             if any(present[first_gap:]):
                 reopened += 1
-    # two pairs weak at the start and sliding early in the loading (tau <= 0.1; after the relaxation
-    # at constant volume hardly any contact slides at tau = 0), chosen with a fixed seed
-    cand = sorted(p for p, seq in track.items()
-                  if seq and seq[0][0] == 0 and seq[0][1] < 1 and any(sl for b, _, _, sl in seq if taus[b] <= 0.1))
-    picks = random.Random(2014).sample(cand, min(2, len(cand)))
+    # Two pairs like the thesis' (both weak at the start and sliding early in the loading; after the
+    # relaxation at constant volume hardly any contact slides at tau = 0, so "early" is tau <= 0.1): the
+    # first also strong (f* > 1) at some time, the second also lost and found again; each chosen with a
+    # fixed seed among the candidates, the plain weak-and-sliding ones when none has the extra property.
+    def early(seq):
+        return seq and seq[0][0] == 0 and seq[0][1] < 1 and any(sl for b, _, _, sl in seq if taus[b] <= 0.1)
+
+    def reopens(seq):
+        bs = [b for b, *_ in seq]
+        return any(b2 > b1 + 1 for b1, b2 in zip(bs, bs[1:]))
+
+    base = sorted(p for p, seq in track.items() if early(seq))
+    rng = random.Random(2014)
+    picks = []
+    for extra in (lambda seq: any(x[1] > 1 for x in seq), reopens):
+        cand = [p for p in base if extra(track[p]) and p not in picks] or [p for p in base if p not in picks]
+        if cand:
+            picks.append(rng.choice(cand))
     for k, p in enumerate(picks, 1):
         tmp = f"{out}/ch3_pair_mu{mu_s}_{k}.dat.tmp"
         with open(tmp, "w") as f:
@@ -119,6 +135,7 @@ def analyse(out, mu_s):
         "pairs_at_tau0": len(track),
         "weak_samples_sliding": n_weak_sl / n_weak if n_weak else math.nan,
         "strong_samples_sliding": n_strong_sl / n_strong if n_strong else math.nan,
+        "sliding_samples_weak": n_weak_sl / (n_weak_sl + n_strong_sl) if n_weak_sl + n_strong_sl else math.nan,
         "pairs_opened": opened / len(track),
         "pairs_opened_and_closed_again": reopened / len(track),
         "blocks": nb,
@@ -148,11 +165,12 @@ def main():
     if not os.path.isdir(out):
         usage(f"chapter3-pairs.py: error: no directory {out}")
     want = os.environ.get("SNAP_MUS", "0.1").split()
-    res, drawn, first = [], False, None
+    res, drawn, first, requested = [], False, None, 0
     for mu in mus:
         try:
             if float(mu) <= 0:
                 continue
+            requested += 1
         except ValueError:
             usage(f"chapter3-pairs.py: error: '{mu}' is not a friction coefficient")
         if not os.path.exists(f"{out}/UNI_mu{mu}.fstat") or os.path.exists(f"{out}/UNI_mu{mu}.failed"):
@@ -160,7 +178,7 @@ def main():
             continue
         try:
             r, picks = analyse(out, mu)
-        except (ValueError, KeyError, OSError, IndexError, TypeError) as e:
+        except (ValueError, KeyError, OSError, IndexError, TypeError, ZeroDivisionError, csv.Error) as e:
             print(f"mu = {mu}: cannot be analysed ({e}), left out")
             continue
         res.append((float(mu), mu, r))
@@ -172,6 +190,9 @@ def main():
     if not drawn and first is not None:
         plot(out, *first)
     if not res:
+        if requested == 0:
+            print("chapter3-pairs.py: no frictional mu given; nothing to analyse")
+            return 0
         print("chapter3-pairs.py: no run could be analysed")
         return 1
     print("\nContact pairs followed from tau = 0 (Fig. 3.10; weak: f* < 1, sliding: the fstat's flag)")

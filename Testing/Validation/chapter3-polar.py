@@ -6,12 +6,15 @@ pdpm-polar on them (axis z):
 
   * Fig. 3.15: the anisotropy descriptors eps2, eps4, eps6 of P6(theta) (Eq. 3.25; method M1, the fit
     to the constant-bin-width density, the thesis' reference) against eps_dev, loading and unloading;
-  * Fig. 3.14 (snapshots at tau = 0, 0.5, 1): the normal-force pdf f* = f_n/<f_n>_all in cones
+  * Fig. 3.14 (rows nearest tau = 0, 0.5, 1): the normal-force pdf f* = f_n/<f_n>_all in cones
     |n.e_a| > chi = 0.8 around x, y, z and for all contacts (mean, weak share f* < 1, spread, 95th
-    percentile, peak height of the density);
-  * Fig. 3.16 (snapshots at tau = 0, 0.25, 0.5, 0.75, 1): the polar distributions P(theta), f_n(theta),
-    f_t(theta), psi_t(theta) of the constant-bin-width method, with the second- and sixth-order
-    harmonic fits of P(theta) and f_n(theta) (least squares on the bins of [0, pi/2]).
+    percentile, peak height of the density); for every mu the summary columns (spread of the cone means
+    at the start; z against the mean of x and y at tau = 0.5 and 1), the full table for SNAP_MUS;
+  * Fig. 3.16 (SNAP_MUS, rows nearest tau = 0, 0.25, 0.5, 0.75, 1): the polar distributions P(theta),
+    f_n(theta), f_t(theta), psi_t(theta) of the constant-bin-width method, with second- and sixth-order
+    harmonic fits (least squares on the bins of [0, pi/2], weighted by the contacts per bin, so that the
+    sparse bins at the pole do not dominate): the second-order anisotropy e2, both R^2, and where the
+    sixth-order fit is largest and whether it dips at pi/2.
 
 Usage: chapter3-polar.py BIN_DIR OUT_DIR MU [MU ...]
   BIN_DIR holds pdpm-polar; SNAP_MUS="0.1" (default) picks the mu whose snapshots are analysed.
@@ -113,6 +116,8 @@ def cone_stats(lines):
     if not fn:
         raise ValueError("snapshot without contacts")
     mean_all = sum(fn) / len(fn)
+    if not mean_all > 0:
+        raise ValueError("snapshot without compressive normal forces")
     res = {}
     for label, sel in (("x", 0), ("y", 1), ("z", 2), ("all", None)):
         f = sorted(fi / mean_all for fi, ni in zip(fn, n) if sel is None or abs(ni[sel]) > CHI)
@@ -149,8 +154,9 @@ def solve(a, b):
     return [m[i][n] / m[i][i] for i in range(n)]
 
 
-def harmonic_fit(theta, y, order):
-    """Least squares y ~ b0 + b2 Y2 + (b4 Y4 + b6 Y6 for order 6); returns (coefficients, R^2)."""
+def harmonic_fit(theta, y, w, order):
+    """Weighted least squares y ~ b0 + b2 Y2 (+ b4 Y4 + b6 Y6 for order 6), weights w (the contacts per
+    bin: the pole bins hold few contacts and would otherwise dominate); returns (coefficients, R^2)."""
     def basis(t):
         c = math.cos(t)
         v = [1.0, 3 * c * c - 1]
@@ -159,38 +165,68 @@ def harmonic_fit(theta, y, order):
         return v
     X = [basis(t) for t in theta]
     k = len(X[0])
-    ata = [[sum(X[i][a] * X[i][b] for i in range(len(X))) for b in range(k)] for a in range(k)]
-    aty = [sum(X[i][a] * y[i] for i in range(len(X))) for a in range(k)]
+    ata = [[sum(w[i] * X[i][a] * X[i][b] for i in range(len(X))) for b in range(k)] for a in range(k)]
+    aty = [sum(w[i] * X[i][a] * y[i] for i in range(len(X))) for a in range(k)]
     beta = solve(ata, aty)
     fit = [sum(b * x for b, x in zip(beta, row)) for row in X]
-    mean = sum(y) / len(y)
-    ss = sum((v - mean) ** 2 for v in y)
-    rss = sum((v - w) ** 2 for v, w in zip(y, fit))
+    sw = sum(w)
+    mean = sum(wi * v for wi, v in zip(w, y)) / sw
+    ss = sum(wi * (v - mean) ** 2 for wi, v in zip(w, y))
+    rss = sum(wi * (v - f) ** 2 for wi, v, f in zip(w, y, fit))
     return beta, (1 - rss / ss) if ss > 0 else math.nan
 
 
-def polar_metrics(bins_csv):
-    """Shape of P, f_n, f_t, psi over theta in [0, pi/2] (constant-bin-width method)."""
+def harmonic_value(beta, t):
+    c = math.cos(t)
+    ys = [1.0, 3 * c * c - 1, 35 * c ** 4 - 30 * c * c + 3, 231 * c ** 6 - 315 * c ** 4 + 105 * c * c - 5]
+    return sum(b * y for b, y in zip(beta, ys))
+
+
+POLAR_KEYS = ("e2", "R2_2", "R2_6", "peak6_deg", "dip6")
+
+
+def polar_metrics(bins_csv, friction):
+    """Shape of P, f_n, f_t, psi over theta in [0, pi/2] (constant-bin-width bins, weighted by their
+    contacts): the second-order anisotropy e2 = b2/b0 of q(theta) = b0 [1 + e2 (3 cos^2 - 1)] (> 0: larger
+    along the axis), R^2 of the 2nd- and 6th-order fits, the angle of the 6th-order fit's largest value in
+    [0, 90] degrees and its value at 90 degrees over that largest value (< 1: a dip at pi/2)."""
     rows = [r for r in read_csv(bins_csv) if r["method"] == "b" and float(r["theta"]) <= math.pi / 2 + 1e-12]
     rows.sort(key=lambda r: float(r["theta"]))
-    th = [float(r["theta"]) for r in rows]
     out = {}
     for q in ("P", "fn", "ft", "psi"):
-        y = [float(r[q]) for r in rows]
-        ok = [(t, v) for t, v in zip(th, y) if v == v]
-        if len(ok) < 5:
-            out.update({f"{q}_0": math.nan, f"{q}_90": math.nan, f"{q}_peak_deg": math.nan})
+        ok = [(float(r["theta"]), float(r[q]), float(r["count"])) for r in rows]
+        ok = [x for x in ok if x[1] == x[1] and x[2] > 0]
+        if len(ok) < 8 or (q in ("ft", "psi") and not friction):
+            out.update({f"{q}_{k}": math.nan for k in POLAR_KEYS})
             continue
-        out[f"{q}_0"] = ok[0][1]
-        out[f"{q}_90"] = ok[-1][1]
-        out[f"{q}_peak_deg"] = math.degrees(max(ok, key=lambda p: p[1])[0])
-        if q in ("P", "fn"):
-            tt, yy = [p[0] for p in ok], [p[1] for p in ok]
-            _, r2 = harmonic_fit(tt, yy, 2)
-            _, r6 = harmonic_fit(tt, yy, 6)
-            out[f"{q}_R2_order2"] = r2
-            out[f"{q}_R2_order6"] = r6
-    return out, rows
+        tt, yy, ww = zip(*ok)
+        b2, r2 = harmonic_fit(tt, yy, ww, 2)
+        b6, r6 = harmonic_fit(tt, yy, ww, 6)
+        grid = [math.radians(0.5 * g) for g in range(181)]
+        vals = [harmonic_value(b6, t) for t in grid]
+        top = max(range(len(vals)), key=lambda g: vals[g])
+        out[f"{q}_e2"] = b2[1] / b2[0] if b2[0] != 0 else math.nan
+        out[f"{q}_R2_2"] = r2
+        out[f"{q}_R2_6"] = r6
+        out[f"{q}_peak6_deg"] = 0.5 * top
+        out[f"{q}_dip6"] = vals[-1] / vals[top] if vals[top] > 0 else math.nan
+    return out
+
+
+def cone_summary(cones_by_tau):
+    """The Fig. 3.14 statements in numbers, for any mu: spread of the cone means at the start; z against
+    the lateral cones at the largest compression and at the end."""
+    def lat(c, q):
+        return 0.5 * (c["x"][q] + c["y"][q])
+    res = {}
+    c0 = cones_by_tau.get(0.0)
+    res["cone_mean_spread_tau0"] = (max(c0[a]["mean"] for a in "xyz") - min(c0[a]["mean"] for a in "xyz")) if c0 else math.nan
+    for t, tag in ((0.5, "tau05"), (1.0, "tau1")):
+        c = cones_by_tau.get(t)
+        res[f"z_over_xy_mean_{tag}"] = c["z"]["mean"] / lat(c, "mean") if c else math.nan
+        res[f"weak_z_minus_xy_{tag}"] = c["z"]["weak"] - lat(c, "weak") if c else math.nan
+        res[f"z_over_xy_count_{tag}"] = c["z"]["count"] / lat(c, "count") if c else math.nan
+    return res
 
 
 def analyse(bin_dir, out, mu_s, snap):
@@ -200,26 +236,28 @@ def analyse(bin_dir, out, mu_s, snap):
     rows = read_macro(macro)
     pdir = f"{out}/polar"
     os.makedirs(pdir, exist_ok=True)
-    snap_rows = {}
-    if snap:
-        for t in sorted(set(SNAP_TAUS + PDF_TAUS)):
-            snap_rows[min(range(len(rows)), key=lambda k: abs(rows[k][1] - t))] = t
+    targets = sorted(set(SNAP_TAUS + PDF_TAUS)) if snap else list(PDF_TAUS)
+    target_row = {t: min(range(len(rows)), key=lambda k: abs(rows[k][1] - t)) for t in targets}
     test = f"{pdir}/UNI_mu{mu_s}.cycle.fstat"
-    snaps, order, boxes = cut_blocks(fstat, rows, test, snap_rows)
-    if len(order) < 5:
-        raise ValueError("fewer than 5 blocks of the cycle in the fstat file")
-    run_polar(bin_dir, [test], pdir, f"UNI_mu{mu_s}", mu)
+    snaps, order, boxes = cut_blocks(fstat, rows, test, set(target_row.values()))
+    try:
+        if len(order) < 5:
+            raise ValueError("fewer than 5 blocks of the cycle in the fstat file")
+        run_polar(bin_dir, [test], pdir, f"UNI_mu{mu_s}", mu)
+    finally:
+        os.remove(test)  # a copy of the cycle's blocks (GBs at full size)
     series = read_csv(f"{pdir}/UNI_mu{mu_s}_series.csv")
     if len(series) != len(order):
         raise ValueError("pdpm-polar skipped blocks (empty?)")
-    pts = []  # tau, eps_dev, eps2, eps4, eps6 (M1), se2, se4, se6, eps2 (M2), eps2 from the fabric
+    pts = []  # tau, eps_dev, eps2, eps4, eps6 (M1), se2, se4, se6, eps2 (M2), eps2 from the fabric, eps2 (M3)
     for k, s in zip(order, series):
         _, tau, ed = rows[k]
         pts.append((tau, ed, float(s["M1_eps2"]), float(s["M1_eps4"]), float(s["M1_eps6"]), float(s["M1_se2"]),
-                    float(s["M1_se4"]), float(s["M1_se6"]), float(s["M2_eps2"]), float(s["eps2_fabric"])))
+                    float(s["M1_se4"]), float(s["M1_se6"]), float(s["M2_eps2"]), float(s["eps2_fabric"]),
+                    float(s["M3_eps2"])))
     tmp = f"{out}/ch3_eps_mu{mu_s}.dat.tmp"
     with open(tmp, "w") as f:
-        f.write("# tau eps_dev eps2 eps4 eps6 se2 se4 se6 eps2_M2 eps2_fabric   (M1 unless named)\n")
+        f.write("# tau eps_dev eps2 eps4 eps6 se2 se4 se6 eps2_M2 eps2_fabric eps2_M3   (M1 unless named)\n")
         for p in pts:
             f.write(" ".join(f"{v:.6g}" for v in p) + "\n")
     os.replace(tmp, f"{out}/ch3_eps_mu{mu_s}.dat")
@@ -230,8 +268,8 @@ def analyse(bin_dir, out, mu_s, snap):
     e6 = [p[4] for p in pts]
     e6m = sum(e6) / len(e6)
     res = {
-        "eps2_start": first[2], "eps2_max_load": best[2], "eps_dev_at_eps2_max": best[1], "eps2_vmax": vmax[2],
-        "eps2_end": last[2],
+        "eps2_start": first[2], "eps2_max_load": best[2], "eps2_rise_load": best[2] - first[2],
+        "eps_dev_at_eps2_max": best[1], "eps2_vmax": vmax[2], "eps2_end": last[2],
         "eps4_start": first[3], "eps4_min_load": min(p[3] for p in load), "eps4_vmax": vmax[3],
         "eps4_end": last[3], "eps4_max_unload": max(p[3] for p in unload),
         "eps6_mean": e6m, "eps6_sd": math.sqrt(sum((x - e6m) ** 2 for x in e6) / max(1, len(e6) - 1)),
@@ -239,39 +277,51 @@ def analyse(bin_dir, out, mu_s, snap):
         "se6_typ": sorted(p[7] for p in pts)[len(pts) // 2],
         "max_abs_M1_minus_fabric": max(abs(p[2] - p[9]) for p in pts),
         "max_abs_M1_minus_M2": max(abs(p[2] - p[8]) for p in pts),
+        "max_abs_M1_minus_M3": max(abs(p[2] - p[10]) for p in pts),
     }
-    snap_res = []
-    for k, t in sorted(snap_rows.items(), key=lambda kv: kv[1]):
+    cones_by_tau, snap_res = {}, []
+    for t in targets:
+        k = target_row[t]
         if k not in snaps or k not in boxes:
             continue
-        tag = f"mu{mu_s}_tau{t:g}"
-        one = f"{pdir}/UNI_{tag}.fstat"
-        with open(one + ".tmp", "w") as f:
-            f.write(f"# time {rows[k][0]!r} step 0 contacts {len(snaps[k])}\n")
-            f.write(boxes[k])
-            f.writelines(snaps[k])
-        os.replace(one + ".tmp", one)
-        run_polar(bin_dir, [one], pdir, f"UNI_{tag}", mu)
         cones = cone_stats(snaps[k])
-        pm, brows = polar_metrics(f"{pdir}/UNI_{tag}_bins.csv")
-        with open(f"{out}/ch3_pdf_{tag}.dat.tmp", "w") as f:
-            f.write("# fstar P_x P_y P_z P_all  (chi = %g, bins of 0.1)\n" % CHI)
-            for b in range(50):
-                f.write(f"{0.1 * b + 0.05:.3f} " + " ".join(
-                    f"{cones[c]['hist'][b]:.6g}" if cones[c]["hist"] else "nan" for c in ("x", "y", "z", "all")) + "\n")
-        os.replace(f"{out}/ch3_pdf_{tag}.dat.tmp", f"{out}/ch3_pdf_{tag}.dat")
-        with open(f"{out}/ch3_bins_{tag}.dat.tmp", "w") as f:
-            f.write("# theta P fn ft psi P6_M1   (constant bin width, theta over [0, pi])\n")
-            for r in sorted(read_csv(f"{pdir}/UNI_{tag}_bins.csv"), key=lambda r: float(r["theta"])):
-                if r["method"] == "b":
-                    f.write(" ".join(r[c] for c in ("theta", "P", "fn", "ft", "psi", "P6_M1")) + "\n")
-        os.replace(f"{out}/ch3_bins_{tag}.dat.tmp", f"{out}/ch3_bins_{tag}.dat")
+        if t in PDF_TAUS:
+            cones_by_tau[t] = cones
+        if not snap:
+            continue
+        tag = f"mu{mu_s}_tau{t:g}"
+        try:
+            one = f"{pdir}/UNI_{tag}.fstat"
+            with open(one + ".tmp", "w") as f:
+                f.write(f"# time {rows[k][0]!r} step 0 contacts {len(snaps[k])}\n")
+                f.write(boxes[k])
+                f.writelines(snaps[k])
+            os.replace(one + ".tmp", one)
+            run_polar(bin_dir, [one], pdir, f"UNI_{tag}", mu)
+            pm = polar_metrics(f"{pdir}/UNI_{tag}_bins.csv", mu > 0)
+            with open(f"{out}/ch3_bins_{tag}.dat.tmp", "w") as f:
+                f.write("# theta P fn ft psi P6_M1   (constant bin width, theta over [0, pi])\n")
+                for r in sorted(read_csv(f"{pdir}/UNI_{tag}_bins.csv"), key=lambda r: float(r["theta"])):
+                    if r["method"] == "b":
+                        f.write(" ".join(r[c] for c in ("theta", "P", "fn", "ft", "psi", "P6_M1")) + "\n")
+            os.replace(f"{out}/ch3_bins_{tag}.dat.tmp", f"{out}/ch3_bins_{tag}.dat")
+        except (ValueError, KeyError, OSError, IndexError, ZeroDivisionError, csv.Error) as e:
+            print(f"mu = {mu_s}, tau = {t:g}: snapshot left out ({e})")
+            continue
+        if t in PDF_TAUS:
+            with open(f"{out}/ch3_pdf_{tag}.dat.tmp", "w") as f:
+                f.write("# fstar P_x P_y P_z P_all  (chi = %g, bins of 0.1)\n" % CHI)
+                for b in range(50):
+                    f.write(f"{0.1 * b + 0.05:.3f} " + " ".join(
+                        f"{cones[c]['hist'][b]:.6g}" if cones[c]["hist"] else "nan" for c in ("x", "y", "z", "all")) + "\n")
+            os.replace(f"{out}/ch3_pdf_{tag}.dat.tmp", f"{out}/ch3_pdf_{tag}.dat")
         row = {"tau_target": t, "tau": rows[k][1], "eps_dev": rows[k][2], "contacts": len(snaps[k])}
         for c in ("x", "y", "z", "all"):
             for q in ("count", "mean", "weak", "sd", "p95", "peak"):
                 row[f"{c}_{q}"] = cones[c][q]
         row.update(pm)
         snap_res.append(row)
+    res.update(cone_summary(cones_by_tau))
     if snap_res:
         keys = list(snap_res[0].keys())
         path = f"{out}/ch3_polar_snap_mu{mu_s}.csv"
@@ -292,15 +342,16 @@ def print_snapshots(mu_s, snap):
         for c in ("x", "y", "z", "all"):
             print(f"{r['tau']:5.2f} {c:>4} {r[c + '_count']:6.0f} {r[c + '_mean']:8.3f} {r[c + '_weak']:6.3f} "
                   f"{r[c + '_sd']:6.3f} {r[c + '_p95']:6.3f} {r[c + '_peak']:7.3f}")
-    print(f"\nmu = {mu_s}: polar distributions (Fig. 3.16; value at theta = 0 / at pi/2, angle of the largest value "
-          "in [0, 90] deg; R^2 of the 2nd- and 6th-order harmonic fits)")
-    print(f"{'tau':>5} {'P 0/90':>13} {'P peak':>6} {'R2 P 2/6':>11} {'fn 0/90':>15} {'R2 fn 2/6':>11} "
-          f"{'ft 0/90':>15} {'ft pk':>5} {'psi 0/90':>13} {'psi pk':>6}")
+    print(f"\nmu = {mu_s}: polar distributions (Fig. 3.16), fits weighted by the contacts per bin: e2 of the "
+          "2nd-order fit (> 0: larger along z), R^2 of the 2nd / 6th-order fits, angle (deg) of the 6th-order "
+          "fit's largest value in [0, 90] and its value at 90 deg relative to that")
+    print(f"{'tau':>5} " + " ".join(f"{q + ': e2  R2 2/6  peak  dip':>30}" for q in ("P", "fn", "ft", "psi")))
     for r in snap:
-        print(f"{r['tau']:5.2f} {r['P_0']:6.3f}/{r['P_90']:6.3f} {r['P_peak_deg']:6.1f} "
-              f"{r['P_R2_order2']:5.2f}/{r['P_R2_order6']:5.2f} {r['fn_0']:7.3g}/{r['fn_90']:7.3g} "
-              f"{r['fn_R2_order2']:5.2f}/{r['fn_R2_order6']:5.2f} {r['ft_0']:7.3g}/{r['ft_90']:7.3g} "
-              f"{r['ft_peak_deg']:5.1f} {r['psi_0']:6.3f}/{r['psi_90']:6.3f} {r['psi_peak_deg']:6.1f}")
+        cells = []
+        for q in ("P", "fn", "ft", "psi"):
+            g = lambda k: r.get(f"{q}_{k}", math.nan)
+            cells.append(f"{g('e2'):8.3f} {g('R2_2'):5.2f}/{g('R2_6'):4.2f} {g('peak6_deg'):5.1f} {g('dip6'):5.2f}")
+        print(f"{r['tau']:5.2f} " + " ".join(f"{c:>30}" for c in cells))
 
 
 def plots(out, mus, snap_mus):
@@ -352,6 +403,11 @@ def main():
         usage(f"chapter3-polar.py: error: no directory {out}")
     if not os.access(os.path.join(bin_dir, "pdpm-polar"), os.X_OK):
         usage(f"chapter3-polar.py: error: no executable pdpm-polar in {bin_dir}")
+    for mu in mus:
+        try:
+            float(mu)
+        except ValueError:
+            usage(f"chapter3-polar.py: error: '{mu}' is not a friction coefficient")
     snap_mus = os.environ.get("SNAP_MUS", "0.1").split()
     res, done = [], []
     for mu in mus:
@@ -360,7 +416,7 @@ def main():
             continue
         try:
             r, snap = analyse(bin_dir, out, mu, mu in snap_mus)
-        except (ValueError, KeyError, OSError, IndexError, TypeError) as e:
+        except (ValueError, KeyError, OSError, IndexError, TypeError, ZeroDivisionError, csv.Error) as e:
             print(f"mu = {mu}: cannot be analysed ({e}), left out")
             continue
         res.append((float(mu), mu, r))
