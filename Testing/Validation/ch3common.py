@@ -1,5 +1,9 @@
-"""Helpers shared by the chapter-3 analysis scripts (chapter3-eigen.py, chapter3-mobilisation.py)."""
+"""Helpers shared by the chapter-3 analysis scripts (chapter3-eigen.py, chapter3-mobilisation.py,
+chapter3-polar.py, chapter3-pairs.py)."""
+import csv
 import os
+import shutil
+import subprocess
 import sys
 
 
@@ -74,3 +78,36 @@ def usage(text):
     """A wrong command line: one line on stderr, exit code 2 (the project's rule for bad input)."""
     print(text, file=sys.stderr)
     raise SystemExit(2)
+
+
+def check_mus(script, mus):
+    """Every MU argument must be a number: otherwise one line on stderr, exit code 2."""
+    for mu in mus:
+        try:
+            float(mu)
+        except ValueError:
+            usage(f"{script}: error: '{mu}' is not a friction coefficient")
+
+
+def cycle_rows(path):
+    """[(time, tau, eps_dev)] of the rows of RUN.macro.csv with tau in [0, 1] (the cycle; the
+    preparation's rows have tau < 0); ValueError if there are fewer than 5."""
+    rows = []
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            tau = float(r["tau"])
+            if -1e-9 <= tau <= 1 + 1e-9:
+                rows.append((float(r["time"]), tau, float(r["eps_dev"])))
+    if len(rows) < 5:
+        raise ValueError("fewer than 5 rows of the cycle")
+    return rows
+
+
+def run_gnuplot(lines):
+    """Runs gnuplot on the script lines if gnuplot is installed; a failure is reported, not raised."""
+    if not shutil.which("gnuplot"):
+        print("gnuplot not found: no plots")
+        return
+    r = subprocess.run(["gnuplot"], input="\n".join(lines) + "\n", capture_output=True, text=True)
+    if r.returncode != 0:
+        print("gnuplot failed: " + r.stderr.strip()[-300:])

@@ -26,28 +26,14 @@ import csv
 import math
 import os
 import random
-import shutil
-import subprocess
 import sys
 
-from ch3common import usage, write_table
-
-
-def cycle_rows(path):
-    rows = []
-    with open(path) as f:
-        for r in csv.DictReader(f):
-            tau = float(r["tau"])
-            if -1e-9 <= tau <= 1 + 1e-9:
-                rows.append((float(r["time"]), tau))
-    if len(rows) < 5:
-        raise ValueError("fewer than 5 rows of the cycle")
-    return rows
+from ch3common import check_mus, cycle_rows, run_gnuplot, usage, write_table
 
 
 def blocks(fstat, rows):
     """Yields (tau, [(i, j, fn, ft, sliding)]) for the blocks of the cycle, in file order."""
-    times = {round(t, 15): tau for t, tau in rows}
+    times = {round(t, 15): tau for t, tau, _ in rows}
     cur, tau = None, None
     with open(fstat) as f:
         for line in f:
@@ -144,7 +130,7 @@ def analyse(out, mu_s):
 
 
 def plot(out, mu_s, picks):
-    if not shutil.which("gnuplot") or not picks:
+    if not picks:
         return
     gp = ["set terminal pngcairo size 1200,450 noenhanced", f"set output '{out}/ch3_fig3_10.png'",
           f"set multiplot layout 1,{len(picks)}", "set xlabel 'tau'", "set xrange [0:1]", "set yrange [0:*]", "set offsets 0, 0, 0.08, 0",
@@ -153,9 +139,7 @@ def plot(out, mu_s, picks):
         gp.append(f"set title 'mu = {mu_s}: pair {k} ({p[0]}, {p[1]})'")
         gp.append(f"plot '{out}/ch3_pair_mu{mu_s}_{k}.dat' u 1:3 w l t 'f_t/(mu f_n)', '' u 1:2 w l lw 2 t 'f* = f_n/<f_n>'")
     gp.append("unset multiplot")
-    r = subprocess.run(["gnuplot"], input="\n".join(gp) + "\n", capture_output=True, text=True)
-    if r.returncode != 0:
-        print("gnuplot failed: " + r.stderr.strip()[-300:])
+    run_gnuplot(gp)
 
 
 def main():
@@ -164,15 +148,13 @@ def main():
     out, mus = sys.argv[1], sys.argv[2:]
     if not os.path.isdir(out):
         usage(f"chapter3-pairs.py: error: no directory {out}")
+    check_mus("chapter3-pairs.py", mus)
     want = os.environ.get("SNAP_MUS", "0.1").split()
     res, drawn, first, requested = [], False, None, 0
     for mu in mus:
-        try:
-            if float(mu) <= 0:
-                continue
-            requested += 1
-        except ValueError:
-            usage(f"chapter3-pairs.py: error: '{mu}' is not a friction coefficient")
+        if float(mu) <= 0:
+            continue
+        requested += 1
         if not os.path.exists(f"{out}/UNI_mu{mu}.fstat") or os.path.exists(f"{out}/UNI_mu{mu}.failed"):
             print(f"mu = {mu}: no UNI_mu{mu}.fstat (run with --fstat 1), left out")
             continue

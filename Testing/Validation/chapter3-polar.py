@@ -26,28 +26,14 @@ unless no run could be analysed (1) or the command line is wrong (2).
 import csv
 import math
 import os
-import shutil
 import subprocess
 import sys
 
-from ch3common import usage, write_table
+from ch3common import check_mus, cycle_rows, run_gnuplot, usage, write_table
 
 CHI = 0.8
 SNAP_TAUS = (0.0, 0.25, 0.5, 0.75, 1.0)
 PDF_TAUS = (0.0, 0.5, 1.0)
-
-
-def read_macro(path):
-    """[(time, tau, eps_dev)] of the rows with tau in [0, 1] (the cycle; preparation rows have tau < 0)."""
-    rows = []
-    with open(path) as f:
-        for r in csv.DictReader(f):
-            tau = float(r["tau"])
-            if -1e-9 <= tau <= 1 + 1e-9:
-                rows.append((float(r["time"]), tau, float(r["eps_dev"])))
-    if len(rows) < 5:
-        raise ValueError("fewer than 5 rows of the cycle")
-    return rows
 
 
 def match(t, rows):
@@ -233,7 +219,7 @@ def analyse(bin_dir, out, mu_s, snap):
     mu = float(mu_s)
     macro = f"{out}/UNI_mu{mu_s}.macro.csv"
     fstat = f"{out}/UNI_mu{mu_s}.fstat"
-    rows = read_macro(macro)
+    rows = cycle_rows(macro)
     pdir = f"{out}/polar"
     os.makedirs(pdir, exist_ok=True)
     targets = sorted(set(SNAP_TAUS + PDF_TAUS)) if snap else list(PDF_TAUS)
@@ -355,9 +341,6 @@ def print_snapshots(mu_s, snap):
 
 
 def plots(out, mus, snap_mus):
-    if not shutil.which("gnuplot"):
-        print("gnuplot not found: no plots")
-        return
     cols = {2: "eps_2", 3: "eps_4", 4: "eps_6"}
     gp = ["set terminal pngcairo size 1500,1100 noenhanced", f"set output '{out}/ch3_fig3_15.png'", "set multiplot layout 3,2",
           "set key outside right font ',8'", "set xlabel 'eps_dev'"]
@@ -390,9 +373,7 @@ def plots(out, mus, snap_mus):
                 gp.append("plot " + ", ".join(
                     f"'{out}/ch3_bins_mu{m}_tau{t:g}.dat' u 1:{col} w l t 'tau={t:g}'" for t in snaps))
             gp += ["unset multiplot", "unset polar"]
-    r = subprocess.run(["gnuplot"], input="\n".join(gp) + "\n", capture_output=True, text=True)
-    if r.returncode != 0:
-        print("gnuplot failed: " + r.stderr.strip()[-300:])
+    run_gnuplot(gp)
 
 
 def main():
@@ -403,11 +384,7 @@ def main():
         usage(f"chapter3-polar.py: error: no directory {out}")
     if not os.access(os.path.join(bin_dir, "pdpm-polar"), os.X_OK):
         usage(f"chapter3-polar.py: error: no executable pdpm-polar in {bin_dir}")
-    for mu in mus:
-        try:
-            float(mu)
-        except ValueError:
-            usage(f"chapter3-polar.py: error: '{mu}' is not a friction coefficient")
+    check_mus("chapter3-polar.py", mus)
     snap_mus = os.environ.get("SNAP_MUS", "0.1").split()
     res, done = [], []
     for mu in mus:
