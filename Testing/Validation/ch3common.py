@@ -103,6 +103,14 @@ def cycle_rows(path):
     return rows
 
 
+def row_at_time(t, rows):
+    """Index of the row of cycle_rows() written at time t (the same output step), or None."""
+    for k, (tr, _, _) in enumerate(rows):
+        if abs(tr - t) <= 1e-9 * max(1.0, abs(tr)) + 1e-15:
+            return k
+    return None
+
+
 def run_gnuplot(lines):
     """Runs gnuplot on the script lines if gnuplot is installed; a failure is reported, not raised."""
     if not shutil.which("gnuplot"):

@@ -28,20 +28,19 @@ import os
 import random
 import sys
 
-from ch3common import check_mus, cycle_rows, run_gnuplot, usage, write_table
+from ch3common import check_mus, cycle_rows, row_at_time, run_gnuplot, usage, write_table
 
 
 def blocks(fstat, rows):
     """Yields (tau, [(i, j, fn, ft, sliding)]) for the blocks of the cycle, in file order."""
-    times = {round(t, 15): tau for t, tau, _ in rows}
     cur, tau = None, None
     with open(fstat) as f:
         for line in f:
             if line.startswith("# time"):
                 if cur is not None:
                     yield tau, cur
-                t = float(line.split()[2])
-                tau = next((v for k, v in times.items() if abs(k - t) <= 1e-9 * max(1.0, abs(k))), None)
+                k = row_at_time(float(line.split()[2]), rows)
+                tau = rows[k][1] if k is not None else None
                 cur = [] if tau is not None else None
             elif cur is not None and not line.startswith("#"):
                 p = line.split()

@@ -29,19 +29,11 @@ import os
 import subprocess
 import sys
 
-from ch3common import check_mus, cycle_rows, run_gnuplot, usage, write_table
+from ch3common import check_mus, cycle_rows, row_at_time, run_gnuplot, usage, write_table
 
 CHI = 0.8
 SNAP_TAUS = (0.0, 0.25, 0.5, 0.75, 1.0)
 PDF_TAUS = (0.0, 0.5, 1.0)
-
-
-def match(t, rows):
-    """Index of the macro row at time t (same output step), or None."""
-    for k, (tr, _, _) in enumerate(rows):
-        if abs(tr - t) <= 1e-9 * max(1.0, abs(tr)) + 1e-15:
-            return k
-    return None
 
 
 def cut_blocks(fstat, rows, test_path, snap_rows):
@@ -52,11 +44,10 @@ def cut_blocks(fstat, rows, test_path, snap_rows):
     cur = None
     tmp = test_path + ".tmp"
     with open(fstat) as f, open(tmp, "w") as out:
-        pending = None
         for line in f:
             if line.startswith("# time"):
                 parts = line.split()
-                k = match(float(parts[2]), rows)
+                k = row_at_time(float(parts[2]), rows)
                 keep = k is not None
                 cur = k
                 if keep:
@@ -77,9 +68,9 @@ def cut_blocks(fstat, rows, test_path, snap_rows):
     return snaps, order, boxes
 
 
-def run_polar(bin_dir, inputs, out, name, mu, extra=()):
+def run_polar(bin_dir, inputs, out, name, mu):
     cmd = [os.path.join(bin_dir, "pdpm-polar"), "--input", *inputs, "--output", out, "--name", name, "--axis", "z",
-           "--mu", repr(mu if mu > 0 else 0.5), "--plot", "none", *extra]
+           "--mu", repr(mu if mu > 0 else 0.5), "--plot", "none"]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise ValueError("pdpm-polar failed: " + (r.stderr.strip().splitlines() or ["?"])[-1])
