@@ -98,6 +98,8 @@ protected:
                                                        [this](double) { return Vec3{0, 0, pistonV_}; }));
     }
     double axialStress() const { return walls()[pistonWall_]->force.z / area(); }
+    /// No particle touches the piston (every contact adds force, so an exactly zero force is no contact).
+    bool liftedOff() const { const Vec3& f = walls()[pistonWall_]->force; return f.x == 0 && f.y == 0 && f.z == 0; }
     double bottomStress() const { return -walls()[bottomWall_]->force.z / area(); }
 
     void actionsOnRestart() override {
@@ -201,7 +203,11 @@ protected:
                     done = true;
                 }
                 break;
-            case recording::Step::Kind::Unload: done = sAx <= st.targetStress || pistonZ_ > pistonZ0_; break;
+            case recording::Step::Kind::Unload:
+                // an unload into tension (negative target, adhesive walls) also ends at lift-off: the
+                // piston touches no particle any more (its force is exactly zero)
+                done = sAx <= st.targetStress || pistonZ_ > pistonZ0_ || (st.targetStress < 0 && liftedOff());
+                break;
             case recording::Step::Kind::HoldPosition:
             case recording::Step::Kind::HoldStress: done = labTime_ - stepLabStart_ >= st.duration - 1e-9 * st.duration; break;
         }

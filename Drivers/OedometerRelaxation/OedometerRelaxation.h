@@ -40,6 +40,7 @@ public:
         p.add("material", &material_, "cocoa", "material preset", {"cocoa", "frictional"});
         p.add("k_over_k1", &kOverK1_, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
         p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
+        p.add("wall_kc_over_k", &wallKcOverK_, 0, "-", "Luding adhesion of the particle-wall pairs (bottom, piston, mould): kc/k (0: walls are not sticky; a tension unload, unload:V:S with S < 0, needs it)", Range::nonNegative());
         p.add("hertz_modulus", &hertzModulus_, 0, "Pa", "Hertz contacts: effective Young's modulus E* of a Hertzian normal force in place of Luding's (0: Luding; needs --k_over_k1 1 --kc_over_k 0; the other parts of the law stay)", Range::nonNegative());
         p.add("normal_stiffness_scale", &normalScale_, 1, "-", "multiplies the material's normal contact stiffnesses k, k1, kc (the normal dashpot by its square root: the same restitution); tangential, rolling, torsion springs stay", Range::positive());
         p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());
@@ -201,6 +202,7 @@ protected:
                                    {"k_N_m", mat_.pp.k},
                                    {"k1_N_m", mat_.pp.k1},
                                    {"kc_N_m", mat_.pp.kc},
+                                   {"wall_kc_N_m", mat_.pw.kc},
                                    {"phi_f", mat_.pp.phiF},
                                    {"mu", mat_.pp.muS},
                                    {"mu_r", mat_.pp.muR},
@@ -231,8 +233,9 @@ private:
             if (kOverK1_ < 1) inputError("--k_over_k1: expected 0 (the material's value) or at least 1 (k1 <= k), got " + fmt(kOverK1_));
             mat_.pp.k1 = mat_.pw.k1 = mat_.pp.k / kOverK1_;
         }
-        if (kcOverK_ >= 0) mat_.pp.kc = kcOverK_ * mat_.pp.k;  // particle-wall contacts stay non-adhesive
+        if (kcOverK_ >= 0) mat_.pp.kc = kcOverK_ * mat_.pp.k;
         else if (kcOverK_ != -1) inputError("--kc_over_k: expected -1 (the material's value) or a value >= 0, got " + fmt(kcOverK_));
+        mat_.pw.kc = wallKcOverK_ * mat_.pw.k;  // particle-wall adhesion only when asked for
         if (fillMuWall_ < 0 && fillMuWall_ != -1)
             inputError("--fill_wall_friction: expected -1 (the same as --wall_friction) or a value >= 0, got " + fmt(fillMuWall_));
         if (hertzModulus_ > 0) {
@@ -244,9 +247,9 @@ private:
                            parameters().get("contact_law"));
             if (normalScale_ != 1)
                 inputError("--normal_stiffness_scale: it scales the linear normal force, which --hertz_modulus replaces (set E* instead)");
-            if (mat_.pp.k1 != mat_.pp.k || mat_.pp.kc != 0)
+            if (mat_.pp.k1 != mat_.pp.k || mat_.pp.kc != 0 || mat_.pw.kc != 0)
                 inputError("--hertz_modulus: Hertz contacts are elastic and non-adhesive, the " + material_ +
-                           " material is not: give --k_over_k1 1 --kc_over_k 0 with it");
+                           " material is not: give --k_over_k1 1 --kc_over_k 0 (and --wall_kc_over_k 0) with it");
             const double m = mat_.density * std::numbers::pi * dMean_ * dMean_ * dMean_ / 6;
             const double e = restitutionCoefficient(mat_.pp.k, mat_.pp.gamma, 0.5 * m);
             for (ContactParameters* c : {&mat_.pp, &mat_.pw}) {
@@ -262,7 +265,7 @@ private:
         ContactParameters pp = mat_.pp, pw = mat_.pw;
         pp.relaxC = pw.relaxC = relaxC;
         if (settling) {
-            pp.kc = 0;
+            pp.kc = pw.kc = 0;
             if (fillMuWall_ >= 0) pw.muS = pw.muD = fillMuWall_;
         }
         d.setContactLaw(lawName());
@@ -278,7 +281,7 @@ private:
 
     std::string geometry_, device_, material_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0;
-    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, fillMuWall_ = -1, hertzModulus_ = 0, normalScale_ = 1;
+    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, wallKcOverK_ = 0, fillMuWall_ = -1, hertzModulus_ = 0, normalScale_ = 1;
     bool gravityOn_ = true;
     OedometerMaterial mat_;
     long mouldWall_ = -1;

@@ -248,10 +248,14 @@ void checkStep(const Step& s, const std::string& where) {
     };
     switch (s.kind) {
         case Step::Kind::Ramp:
-        case Step::Kind::Unload:
             pos(s.velocity, "velocity_m_s");
             if (!(s.targetStress >= 0) || !std::isfinite(s.targetStress))
                 inputError(where + ".target_stress_Pa: must be >= 0 (got " + fmt(s.targetStress) + ")");
+            break;
+        case Step::Kind::Unload:  // a negative target is a tension (lift-off test of a cohesive bed)
+            pos(s.velocity, "velocity_m_s");
+            if (!std::isfinite(s.targetStress))
+                inputError(where + ".target_stress_Pa: must be a finite number (got " + fmt(s.targetStress) + ")");
             break;
         case Step::Kind::HoldPosition: pos(s.duration, "duration_s"); break;
         case Step::Kind::HoldStress:

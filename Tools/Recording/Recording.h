@@ -50,7 +50,9 @@ struct Step {
     enum class Kind { Ramp, HoldPosition, Unload, HoldStress };
     Kind kind = Kind::Ramp;
     double velocity = 0;      ///< ramp / unload
-    double targetStress = 0;  ///< ramp (reach >= it) / unload (reach <= it)
+    /// ramp: reach >= it (>= 0); unload: reach <= it, where a negative target is a tension (lift-off test:
+    /// the unload goes on past zero force and ends at the target or when the piston has come free)
+    double targetStress = 0;
     double duration = 0;      ///< holds, lab seconds
     double stress = -1;       ///< hold_stress: applied stress (Pa); < 0: the stress at the start of the hold
 };
