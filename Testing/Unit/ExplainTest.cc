@@ -20,6 +20,7 @@
 #include "IO/Json.h"
 #include "IO/NumberFormat.h"
 #include "LateralChannel.h"
+#include "Recording.h"
 #include "SeveralRecordings.h"
 #include "TempDir.h"
 
@@ -494,7 +495,7 @@ TEST(ExplainInput, DemCaseFamiliesAreChecked) {
     s.family = "";
     s.bottomSensor = true;  // a null case's family defaults to contact_relaxation
     EXPECT_THROW(generateDemCase(s, tmp.str() + "/w", model), InputError);
-    EXPECT_THROW(demCaseBenchmark(1, {5}, 200, 1, tmp.str() + "/b", "", {"cohesion"}), InputError);
+    EXPECT_THROW(demCaseBenchmark(1, {5}, 200, 1, tmp.str() + "/b", "", {"plasticity"}), InputError);
     EXPECT_FALSE(std::filesystem::exists(tmp.str() + "/w")) << "nothing is made for a refused case";
 }
 
@@ -593,15 +594,54 @@ TEST(ExplainCommand, EndToEndIsDeterministicAndScored) {
     EXPECT_GE(s.paramRelError, 0.0);
 }
 
+// cohesion has a DEM counterpart only where the protocol pulls on the bed (an unload with a negative
+// target stress): without one the step says so and runs nothing
+TEST(ExplainCommand, CohesionConfirmationNeedsAnUnloadIntoTension) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.path.string();
+    recording::Protocol p;
+    p.device = "periodic";
+    p.height = 0.015;
+    recording::Step ramp, unload;
+    ramp.kind = recording::Step::Kind::Ramp;
+    ramp.velocity = 5e-5;
+    ramp.targetStress = 1e4;
+    unload.kind = recording::Step::Kind::Unload;
+    unload.velocity = 5e-5;
+    unload.targetStress = 0;
+    p.steps = {ramp, unload, ramp};
+    recording::writeProtocol(dir + "/p.json", p);
+    ExplainResult coh;
+    coh.mechanisms.push_back(MechanismResult{});
+    coh.mechanisms.back().comp = kCohesion;
+    Recording rec;
+    DemOptions opt;
+    opt.driver = "/bin/true";  // an executable that is never run: the check comes first
+    const DemResult d = confirmWithDem(coh, rec, dir + "/p.json", opt, dir + "/dem");
+    EXPECT_EQ(d.status, "not_run");
+    EXPECT_EQ(d.mechanism, "cohesion");
+    EXPECT_NE(d.reason.find("no unload into tension"), std::string::npos) << d.reason;
+    EXPECT_TRUE(d.runs.empty());
+    // the same protocol with the unload pulling to -500 Pa is read back with its tension target
+    p.steps[1].targetStress = -500;
+    recording::writeProtocol(dir + "/q.json", p);
+    const Protocol q = readProtocol(dir + "/q.json");
+    ASSERT_EQ(q.steps.size(), 3u);
+    EXPECT_EQ(q.steps[1].type, StepType::Unload);
+    EXPECT_DOUBLE_EQ(q.steps[1].tension, 500);
+    EXPECT_LT(q.steps[1].targetStress, 0) << "no compressive target";
+    EXPECT_DOUBLE_EQ(toRecordingProtocol(q).steps[1].targetStress, -500) << "written back as a negative target";
+}
+
 TEST(ExplainCommand, DemConfirmationStatusWithoutRuns) {
     ExplainResult none;
     Recording rec;
     DemOptions opt;
     EXPECT_EQ(confirmWithDem(none, rec, "p.json", opt, "unused").status, "not_needed");
-    ExplainResult coh;
-    coh.mechanisms.push_back(MechanismResult{});
-    coh.mechanisms.back().comp = kCohesion;
-    EXPECT_EQ(confirmWithDem(coh, rec, "p.json", opt, "unused").status, "not_supported");
+    ExplainResult rate;
+    rate.mechanisms.push_back(MechanismResult{});
+    rate.mechanisms.back().comp = kRate;
+    EXPECT_EQ(confirmWithDem(rate, rec, "p.json", opt, "unused").status, "not_supported");
     ExplainResult plast;
     plast.mechanisms.push_back(MechanismResult{});
     plast.mechanisms.back().comp = kPlasticity;

@@ -7,7 +7,9 @@
 # runs per positive case. PDPM_DEM_FAMILY=wall_friction makes the wall-friction family instead (a
 # 30 mm mould with elastic contacts, every second pair with a bottom stress sensor; two to four
 # minutes of DEM per run); PDPM_DEM_FAMILY=creep the creep family (the relaxation family's bed with
-# every hold at constant stress: contact relaxation seen as creep). Writes summary.md; with --update-doc replaces the family's measured
+# every hold at constant stress: contact relaxation seen as creep); PDPM_DEM_FAMILY=cohesion the
+# cohesion family (the relaxation family's bed, its unload a lift-off test, adhesive contacts and sticky
+# walls against none). Writes summary.md; with --update-doc replaces the family's measured
 # section of Documentation/tools-explain.md. Fails only when a run fails (the figures are reported,
 # not gated).
 source "$(dirname "$0")/explain-common.sh"
@@ -17,7 +19,8 @@ case "$FAMILY" in
   contact_relaxation) MARK=dem-cases; DIR=dem-cases ;;
   wall_friction) MARK=dem-wall-cases; DIR=dem-wall-cases ;;
   creep) MARK=dem-creep-cases; DIR=dem-creep-cases ;;
-  *) echo "PDPM_DEM_FAMILY must be contact_relaxation, wall_friction or creep" >&2; exit 2 ;;
+  cohesion) MARK=dem-cohesion-cases; DIR=dem-cohesion-cases ;;
+  *) echo "PDPM_DEM_FAMILY must be contact_relaxation, wall_friction, creep or cohesion" >&2; exit 2 ;;
 esac
 "$BIN/pdpm-explain-bench" --output "$OUT/$DIR" --reps 0 --nulls 0 --forced 0 --extras 0 --dem_cases "$N" --dem_snr 3,5 \
   --dem_families "$FAMILY" --samples 2000 > "$OUT/$DIR.log"

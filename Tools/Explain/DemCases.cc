@@ -95,7 +95,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     checkDemCaseFamily(family, "dem-case: --family");
     if (spec.kind != "null" && spec.kind != family)
         inputError("dem-case: a " + spec.kind + " case cannot belong to the " + family + " family");
-    const bool wall = family == "wall_friction", creep = family == "creep";
+    const bool wall = family == "wall_friction", creep = family == "creep", coh = family == "cohesion";
     if (spec.bottomSensor && !wall) inputError("dem-case: a bottom stress sensor belongs to the wall_friction family");
     if (!(spec.snr > 0)) inputError("dem-case: --snr must be positive");
     const bool positive = spec.kind != "null";
@@ -105,14 +105,18 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
 
     // protocol: three ramps with holds, a partial unload, a reload and a shorter last hold (creep:
     // every hold at constant stress)
+    // (cohesion: the unload is a lift-off test, pulling on the bed to a tension of 4-8 % of the top
+    // stress, or until the piston is free, and holding the piston there)
     const double v = 5e-5, hold = uni(60, 240), s1 = uni(4e3, 7e3), su = uni(0.2, 0.5) * 3 * s1;
+    const double pull = coh ? -uni(0.04, 0.08) * 3 * s1 : 0.0;
     const std::string H = creep ? ",creep:" : ",hold:";
     std::ostringstream steps;
     steps << "ramp:" << fmt(v) << ':' << fmt(s1) << H << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(2 * s1) << H
-          << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(hold) << ",unload:" << fmt(v) << ':' << fmt(su)
-          << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(0.5 * hold);
+          << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(hold) << ",unload:" << fmt(v) << ':' << fmt(coh ? pull : su)
+          << (coh ? H + fmt(0.5 * hold) : std::string()) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(0.5 * hold);
     const double C = uni(0.02, 0.08), t0 = std::pow(10.0, uni(-1, std::log10(2.0)));
     const double muW = wall ? uni(0.15, 0.45) : 0.0;  // only in the wall family: the relaxation family's draws stay as they were
+    const double kc = coh ? uni(0.5, 1.0) : 0.0;       // cohesion: kc/k of the particle pairs and of the walls
     // the wall_friction family's mould (H/D = 1)
     const double mould = 12 * kDemMeanDiameter;
 
@@ -134,9 +138,12 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         if (wall)
             cmd << " --relax_C 0 --k_over_k1 1 --geometry cylinder --device mould --diameter " << fmt(mould) << " --fill_height_m "
                 << fmt(mould) << " --d_mean " << fmt(kDemMeanDiameter) << " --fill_wall_friction 0 --ramp_rate 1 --wall_friction " << fmt(value);
+        else if (coh)
+            cmd << " --relax_C 0 --kc_over_k " << fmt(value) << " --wall_kc_over_k " << fmt(value);
         else
             cmd << " --relax_C " << fmt(value) << " --relax_t0 " << fmt(t0);
-        cmd << " --kc_over_k 0 --seed " << spec.seed << " --output " << shellQuote(workDir) << " --name " << name << " --threads "
+        if (!coh) cmd << " --kc_over_k 0";
+        cmd << " --seed " << spec.seed << " --output " << shellQuote(workDir) << " --name " << name << " --threads "
             << spec.threads << " --quiet --vtk 0 --ene 0 " << spec.driverArgs;
         const std::string base = workDir + "/" + name, log = base + ".log", stamp = base + ".command";
         const std::string stampText = cmd.str() + "\n" + driverId + "\n";
@@ -153,13 +160,21 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     };
     // both runs for every case: the null case is the positive case's twin without the mechanism,
     // with the same noise level (set by the mechanism's effect)
-    const auto [with, protoWith] = run("with", wall ? muW : C);
+    const auto [with, protoWith] = run("with", wall ? muW : coh ? kc : C);
     const auto [without, protoWithout] = run("without", 0.0);
     const Recording& shown = positive ? with : without;
-    // the effect of each run on its own samples (creep: tangent x creep strain; else the stress)
-    const std::vector<double> effWith = creep ? creepEffect(with, protoWith) : with.stress;
-    const std::vector<double> effWithout = creep ? creepEffect(without, protoWithout) : without.stress;
-    if (creep && (with.step.size() != with.t.size() || without.step.size() != without.t.size()))
+    // the effect of each run on its own samples (creep: tangent x creep strain; cohesion: the tension,
+    // the part no baseline reaches -- the adhesive bed's other differences, e.g. its stiffer loading,
+    // a free loading curve absorbs -- so that the SNR is the tension over the noise, as in the
+    // surrogate cases; else the stress)
+    auto tensionOf = [](const Recording& r) {
+        std::vector<double> out(r.stress.size());
+        for (std::size_t i = 0; i < out.size(); ++i) out[i] = std::min(r.stress[i], 0.0);
+        return out;
+    };
+    const std::vector<double> effWith = creep ? creepEffect(with, protoWith) : coh ? tensionOf(with) : with.stress;
+    const std::vector<double> effWithout = creep ? creepEffect(without, protoWithout) : coh ? tensionOf(without) : without.stress;
+    if ((creep || coh) && (with.step.size() != with.t.size() || without.step.size() != without.t.size()))
         inputError("dem-case: the DEM record has no step column");
     const auto stepsWith = stepTimes(with, protoWith.steps.size()), stepsWithout = stepTimes(without, protoWithout.steps.size());
 
@@ -187,7 +202,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         // "without" run at the same time since the same step began; its ramps are shorter)
         const double tw = with.t.front() + Tw * i / (n - 1);
         double two = tw;
-        if (creep) {
+        if (creep || coh) {  // cohesion: the "without" run lifts off sooner, and the steps after it start earlier
             const auto k = static_cast<std::size_t>(std::upper_bound(with.t.begin(), with.t.end(), tw) - with.t.begin());
             const auto st = static_cast<std::size_t>(with.step[k > 0 ? k - 1 : 0]);
             if (st < stepsWith.size() && st < stepsWithout.size() && stepsWithout[st].first >= 0)
@@ -242,6 +257,8 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         tr.set("bottom_sensor", spec.bottomSensor);
     } else if (creep) {
         tr.set("null_twin_of_contact_C", positive ? Json() : Json(C));
+    } else if (coh) {
+        tr.set("null_twin_of_kc_over_k", positive ? Json() : Json(kc));
     } else {
         tr.set("null_twin_of_contact_C", positive ? Json() : Json(C));
         // the bed's own hold relaxation (rearrangements, damping), present in both runs
@@ -256,6 +273,16 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         tr.set("primary_off", 0.0);
         tr.set("primary_definition",
                "Janssen's mu_w K of the noise-free DEM record: -ln(T)/(4 H/D), T its bottom/piston transmission on first loading");
+    } else if (positive && coh) {
+        // the surrogate's tension: the largest tension of the noise-free "with" record
+        double tension = 0;
+        for (double x : with.stress) tension = std::max(tension, -x);
+        tp.set("kc_over_k", kc);
+        tp.set("tension", tension);
+        tr.set("primary_parameter", "tension");
+        tr.set("primary_value", tension);
+        tr.set("primary_off", 0.0);
+        tr.set("primary_definition", "largest tension (Pa) of the noise-free DEM record's lift-off unload");
     } else if (positive) {
         tp.set("C", C);
         tp.set("t0", t0);
@@ -316,7 +343,10 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
     for (const std::string& family : families) {
         // the relaxation family keeps its seeds and names; the wall family counts on from its own base
         // (bases 200 apart: distinct seeds while a family has at most 100 pairs per SNR and two SNRs)
-        unsigned long s = family == "contact_relaxation" ? seed * 1000 : family == "wall_friction" ? seed * 1000 + 500 : seed * 1000 + 700;
+        unsigned long s = family == "contact_relaxation" ? seed * 1000
+                          : family == "wall_friction"    ? seed * 1000 + 500
+                          : family == "creep"            ? seed * 1000 + 700
+                                                         : seed * 1000 + 900;
         const std::string tag = family == "contact_relaxation" ? "" : family + "_";
         auto add = [&](const std::string& kind, double snr, std::size_t si, int k) {
             Job j;
@@ -373,7 +403,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
                 scores[i] = scoreCase(rep, truth);
                 const auto& ms = rep.at("mechanisms").asArray();
                 firstFound[i] = ms.empty() ? rep.at("verdict").asString() : ms.front().at("name").asString();
-                const std::string primary = j.spec.family == "wall_friction" ? "muK" : "C";
+                const std::string primary = j.spec.family == "wall_friction" ? "muK" : j.spec.family == "cohesion" ? "tension" : "C";
                 const std::string mechanism = demFamilyMechanism(j.spec.family);
                 // wall_friction: the bottom sensor's Janssen estimate where the report has one (the piston
                 // term's muK stands for the Janssen product only where the loading curve is not free)
@@ -404,10 +434,12 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
        << "stiffness_nonlinearity and loading_curve; every second pair with a noisy bottom stress sensor. creep: the "
        << "contact_relaxation family's protocol shape, parameter ranges and baseline (its own seeds) with every hold a creep step "
        << "at constant stress (the effect: the "
-       << "loading tangent before a step times the strain crept). Each null case is its "
+       << "loading tangent before a step times the strain crept). cohesion: the same protocol shape whose unload is a lift-off test "
+       << "(pull to a tension of 4-8 % of the top stress or until the piston is free, then hold), adhesive contacts and sticky walls "
+       << "(kc/k 0.5-1) against none, no relaxation, the contact_relaxation family's baseline (the effect: the tension). Each null case is its "
        << "positive twin's bed, protocol and noise without the mechanism (noise sd = the twin's peak effect / SNR).\n\n";
     for (const std::string& family : families) {
-        const bool wall = family == "wall_friction", creep = family == "creep";
+        const bool wall = family == "wall_friction", creep = family == "creep", coh = family == "cohesion";
         int nNull = 0, fa = 0, det = 0, correct = 0, iouOk = 0, parN = 0, parOk = 0, parIdentOk = 0;
         std::map<double, std::pair<int, int>> power, powerSensor;
         std::ostringstream rows;
@@ -416,16 +448,17 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             if (jobs[i].spec.family != family) continue;
             const CaseScore& c = scores[i];
             rows << "| " << jobs[i].name << " | " << c.rho << " | " << c.verdict << " | " << firstFound[i] << " | ";
-            // creep: no position holds, so neither a macroscopic C nor the bed's own C (the columns stop at the contact C)
+            // creep: no position holds, so neither a macroscopic C nor the bed's own C (the columns stop at the contact C);
+            // cohesion: the tension found and the record's
             if (c.positive) rows << c.iou << " | " << pFound[i] << " | " << pTrue[i];
             else rows << "- | " << pFound[i] << " | -";
-            if (!creep) {
+            if (!creep && !coh) {
                 rows << " | ";
                 if (c.positive) rows << (wall ? pPiston[i] : pIdent[i]);
                 else rows << "-";
             }
             if (wall) rows << " | " << sensor[i] << " |\n";
-            else if (creep) rows << " |\n";
+            else if (creep || coh) rows << " |\n";
             else rows << " | " << cIntrinsic[i] << " |\n";
             if (!c.positive) {
                 ++nNull;
@@ -459,6 +492,10 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             md << "| muK (the bottom sensor's where it has one) within 25 % of Janssen's mu_w K of the noise-free record (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN)
                << " |\n\n";
             md << "| case | rho | verdict | first mechanism | IoU | muK found (the bottom sensor's where it has one) | Janssen mu_w K | piston term's muK | bottom sensor says |\n";
+        } else if (coh) {
+            md << "| tension within 25 % of the noise-free record's largest tension (detections, SNR >= 5) | >= 90 % | "
+               << countShare(parOk, parN) << " |\n\n";
+            md << "| case | rho | verdict | first mechanism | IoU | tension found (Pa) | largest tension (Pa) |\n";
         } else {
             md << "| C within 25 % of the contact C (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN) << " |\n";
             if (family == "creep") md << "\n";  // no position holds: no macroscopic C
@@ -468,7 +505,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             md << (creep ? "| case | rho | verdict | first mechanism | IoU | C found | contact C |\n"
                          : "| case | rho | verdict | first mechanism | IoU | C found | contact C | macroscopic C | bed's own C (without contact relaxation) |\n");
         }
-        md << (creep ? "|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|---|\n") << rows.str() << "\n";
+        md << (creep || coh ? "|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|---|\n") << rows.str() << "\n";
     }
     return md.str();
 }

@@ -34,6 +34,14 @@
 // runs while the piston follows; the driver's controller). No macroscopic C (Eq. 4.3 needs a
 // position hold).
 //
+// Cohesion (family cohesion, since 2026-12-05): the relaxation family's protocol shape (its own seeds)
+// whose unload is a lift-off test (unload:V:-S, S 1.5-3 % of the top stress: pull on the bed to the
+// tension S or until the piston is free, then hold the piston there), no relaxation; "with" has
+// Luding adhesion kc/k in [0.4, 1] for the particle pairs and the walls (--kc_over_k,
+// --wall_kc_over_k), "without" none; both the cocoa plasticity k/k1 = 5 (Luding's law has no tension
+// without it). The truth's primary value is the largest tension of the noise-free "with" record (the
+// surrogate's `tension`). MODEL.json as for contact_relaxation.
+//
 // Positive: contact C in [0.02, 0.08], t0 in [0.1, 2] s. The truth's primary value is the contact C;
 // `primary_value_identifiable` is the macroscopic C of the noise-free "with" record (the mean Eq. 4.3
 // fit of its holds, which the bed's rearrangements make smaller than the contact C). Windows: the
@@ -65,7 +73,7 @@ struct DemCaseSpec {
 GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDir, Json& model);
 
 /// The families of DEM-made cases.
-inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction", "creep"};
+inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction", "creep", "cohesion"};
 /// The mechanism a positive case of family `f` carries (creep: contact_relaxation; else f itself).
 inline std::string demFamilyMechanism(const std::string& f) { return f == "creep" ? "contact_relaxation" : f; }
 /// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction, creep)" unless `f` is a family.

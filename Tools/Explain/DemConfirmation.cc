@@ -483,7 +483,22 @@ struct BranchKnob {
     std::vector<double> grid = {};        ///< Grid: the factors of the guess
     /// Transmission: the mould's H/D over the recording's (Janssen's exponent scales with H/D)
     double aspectScale = 1;
+    std::string flag2;                    ///< a second driver flag given the same value (cohesion: the walls' adhesion)
+    bool tension = false;                 ///< report the largest tension over the start stress instead of the unloading ratio
 };
+
+/// Largest tension over the branch's start stress, -min(y), on the unload branches in `which`, each
+/// unload together with the reload after it (the lift-off test's tension lasts into the hold and the
+/// reload's start); 0 without tension.
+double tensionRatio(const std::vector<Branch>& b, const std::vector<std::size_t>& which) {
+    double t = 0;
+    for (std::size_t k : which) {
+        if (k >= b.size() || b[k].phase != Phase::Unload) continue;
+        for (std::size_t q = k; q < b.size() && (q == k || b[q].phase == Phase::Reload); ++q)
+            for (double y : b[q].y) t = std::max(t, -y);
+    }
+    return t;
+}
 
 const char* calibrationName(Calibration c) {
     switch (c) {
@@ -522,7 +537,8 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
         DemRun run;
         run.name = name;
         run.*knob.field = value;
-        const std::string args = knob.args + " " + knob.flag + " " + fmt(value) + " --stress_scale " + fmt(d.stressScale);
+        std::string args = knob.args + " " + knob.flag + " " + fmt(value) + " --stress_scale " + fmt(d.stressScale);
+        if (!knob.flag2.empty()) args += " " + knob.flag2 + " " + fmt(value);
         if (!ctx.run(run, protocolPath, args)) return {};
         try {
             DemRecord r = readDemRecord(ctx.workDir + "/" + name);
@@ -604,9 +620,9 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
         d.runs[q].calibrationRmse = branchRmse(lab, all[q], cal);
         d.runs[q].heldoutRmse = branchRmse(lab, all[q], held);
         if (byTransmission) d.runs[q].heldoutBottomRmse = branchRmse(lab, all[q], held, true);
-        d.runs[q].macro = unloadRatio(all[q], cal, knob.yMin);
+        d.runs[q].macro = knob.tension ? tensionRatio(all[q], cal) : unloadRatio(all[q], cal, knob.yMin);
     }
-    d.labMacro = labRatio;
+    d.labMacro = knob.tension ? tensionRatio(lab, cal) : labRatio;
     // the augmented run with the smallest calibration error, or (transmission) the one whose
     // bottom/piston ratio is closest to the recording's
     d.chosen = 1;
@@ -689,6 +705,30 @@ DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, cons
     const double guess = std::clamp(std::max(2 * muK, kMinWallFrictionGuess), 0.02, kMaxWallFriction);
     const BranchKnob knob{"wall_friction", "--wall_friction", "dem_wall", 0, 0.02, kMaxWallFriction, guess, args,
                           &DemRun::wallFriction, 0.6, Calibration::Grid, {1, 0.5, 2}};
+    return confirmBranches(ctx, knob, rec, protocolPath);
+}
+
+// ---- cohesion: the tension of a lift-off test ------------------------------------------------------
+
+/// cohesion: Luding adhesion kc/k of the particle pairs and of the walls (--kc_over_k,
+/// --wall_kc_over_k), chosen from a grid by the unload error; the protocol must pull on the bed (an
+/// unload with a negative target stress), since the DEM replays a protocol by its stress targets and
+/// the adhesion shows only in tension (DemConfirmation.h).
+DemResult confirmCohesion(DemContext& ctx, const Recording& rec, const std::string& protocolPath) {
+    ctx.d.mechanism = "cohesion";
+    if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
+    bool pulls = false;
+    for (const recording::Step& st : ctx.protocol->steps) pulls |= st.kind == recording::Step::Kind::Unload && st.targetStress < 0;
+    if (!pulls) {
+        ctx.d.status = "not_run";
+        ctx.d.reason = "the protocol has no unload into tension (an unload with a negative target stress: a lift-off test); the DEM "
+                       "driver replays a protocol by its stress targets, and adhesion shows in the DEM only where the piston pulls on the bed";
+        return ctx.finish();
+    }
+    BranchKnob knob{"cohesion", "--kc_over_k", "dem_cohesion", 0, 0.05, kMaxKcOverK, 1.0, " --relax_C 0", &DemRun::kcOverK, 0.2,
+                    Calibration::Grid, {0.25, 0.5, 1.0}};
+    knob.flag2 = "--wall_kc_over_k";
+    knob.tension = true;
     return confirmBranches(ctx, knob, rec, protocolPath);
 }
 
@@ -962,7 +1002,7 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         if (!demSupported(m->comp)) {
             d.status = "not_supported";
             d.mechanism = opt.mechanism;
-            d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction and stiffness_nonlinearity; " +
+            d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction, stiffness_nonlinearity and cohesion; " +
                        d.mechanism + " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
             return d;
         }
@@ -970,7 +1010,7 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     if (!m) {
         d.status = "not_supported";
         d.mechanism = compName(r.mechanisms.front().comp);
-        d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction and stiffness_nonlinearity; " + d.mechanism +
+        d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction, stiffness_nonlinearity and cohesion; " + d.mechanism +
                    " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
         return d;
     }
@@ -988,11 +1028,14 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         case kRelaxation: return confirmRelaxation(ctx, *m, rec, protocolPath);
         case kPlasticity: return confirmPlasticity(ctx, *m, rec, protocolPath);
         case kNonlinearity: return confirmNonlinearity(ctx, *m, rec, protocolPath);
+        case kCohesion: return confirmCohesion(ctx, rec, protocolPath);
         default: return confirmWallFriction(ctx, *m, rec, protocolPath);
     }
 }
 
-bool demSupported(int comp) { return comp == kRelaxation || comp == kPlasticity || comp == kWallFriction || comp == kNonlinearity; }
+bool demSupported(int comp) {
+    return comp == kRelaxation || comp == kPlasticity || comp == kWallFriction || comp == kNonlinearity || comp == kCohesion;
+}
 
 Json demJson(const DemResult& d) {
     Json j = Json::object();
@@ -1001,7 +1044,7 @@ Json demJson(const DemResult& d) {
     if (!d.mechanism.empty()) j.set("mechanism", d.mechanism);
     const auto num = [](double x) { return x >= 0 && std::isfinite(x) ? Json(x) : Json(); };
     const bool plastic = d.mechanism == "plasticity", wall = d.mechanism == "wall_friction";
-    const bool hertz = d.mechanism == "stiffness_nonlinearity", branches = plastic || wall || hertz;
+    const bool hertz = d.mechanism == "stiffness_nonlinearity", coh = d.mechanism == "cohesion", branches = plastic || wall || hertz || coh;
     j.set("heldout_rmse_baseline", num(d.heldoutBaseline));
     j.set("heldout_rmse_augmented", num(d.heldoutAugmented));
     if (d.status == "done") {
@@ -1014,6 +1057,7 @@ Json demJson(const DemResult& d) {
             j.set("recording_unload_stiffness_ratio_calibration_branches", num(d.labMacro));
             j.set("unload_ratio_min_y", d.ratioYMin);
         }
+        if (coh) j.set("recording_tension_over_start_stress_calibration_branches", num(d.labMacro));
         if (hertz) {
             j.set("surrogate_exponent_n", num(d.surrogateValue));
             if (d.control >= 0) {
@@ -1050,6 +1094,10 @@ Json demJson(const DemResult& d) {
             o.set("normal_stiffness_scale", r.normalStiffnessScale);
             if (std::isfinite(r.exponent)) o.set("dem_unload_stiffness_exponent", r.exponent);
             o.set("dem_unload_curvature_calibration_branches", num(r.macro));
+        } else if (coh) {
+            o.set("kc_over_k", r.kcOverK);
+            o.set("wall_kc_over_k", r.kcOverK);
+            o.set("dem_tension_over_start_stress_calibration_branches", num(r.macro));
         } else if (branches) {
             if (plastic) o.set("k_over_k1", r.kOverK1);
             else o.set("wall_friction", r.wallFriction);
@@ -1113,6 +1161,14 @@ std::string demMarkdown(const DemResult& d) {
                         "%.3g; the DEM gives %.3g). %sthe %d branch(es) the calibration did not see",
                         a.kOverK1, d.calibrationHolds, d.labMacro, a.macro, units, d.heldoutHolds);
         without = "elastic contacts", with = "plastic ones";
+    } else if (d.mechanism == "cohesion") {
+        os << scaled << "; Luding's law with the material's plasticity), once without adhesion and once with adhesive contacts "
+           << formatted("and sticky walls (kc/k = %.3g for the particle pairs and the walls, of %zu values the one with the smallest "
+                        "error on %d unload branch(es) into tension; largest tension over the start stress: recording %.3g, "
+                        "DEM %.3g with adhesion, %.3g without). %sthe %d reload branch(es) the choice did not see",
+                        a.kcOverK, d.runs.size() - 1, d.calibrationHolds, d.labMacro, a.macro, d.runs.front().macro, units,
+                        d.heldoutHolds);
+        without = "no adhesion", with = "adhesion";
     } else if (d.mechanism == "stiffness_nonlinearity") {
         os << scaled << "; the non-cohesive frictional material), once with linear elastic contacts and with Hertzian ones, "
            << formatted("whose stiffness falls with the force: E* = %.4g Pa (of %zu values), calibrated on %d unload branch(es) "

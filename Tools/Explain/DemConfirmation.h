@@ -60,7 +60,16 @@
 // 0.33-0.38); the law counts as distinguished where the control misses the recording's exponent by
 // kExponentMargin more than the chosen run does. With one unload level the curvature with
 // kCurvatureMargin judges the same way. A failed control leaves the result and skips the judgement.
-// Confirmed only when no other
+//
+// And for cohesion (since 2026-12-05; driver flags --kc_over_k and --wall_kc_over_k with one value, Luding's law
+// with the material's plasticity, relaxation off in every run): only where the protocol pulls on the bed
+// (an unload with a negative target stress, the lift-off test; else not_run), since adhesion shows in
+// the DEM only in tension. The branches, normalisation and held-out reloads of plasticity; runs at
+// kc/k = 0 and at 0.25, 0.5 and 1, the one with the smallest error on the unloads (which end in
+// tension) scored on the reloads (which start in it). The largest tension over the start stress is
+// reported for the recording and every run.
+//
+// Stiffness_nonlinearity is confirmed only when no other
 // accepted mechanism has a DEM counterpart that can run (wall_friction without the device's size
 // cannot), or when DemOptions::mechanism names it.
 #pragma once
@@ -86,6 +95,8 @@ struct DemOptions {
 inline constexpr double kDemMaxStress = 20e3;
 /// Largest k/k1 a plasticity DEM run may use.
 inline constexpr double kMaxKOverK1 = 50;
+/// Largest adhesive stiffness ratio kc/k a cohesion DEM run may use.
+inline constexpr double kMaxKcOverK = 2;
 /// Largest wall friction coefficient a wall_friction DEM run may use.
 inline constexpr double kMaxWallFriction = 1.5;
 /// Smallest wall friction coefficient of the first augmented wall_friction run.
@@ -136,6 +147,7 @@ struct DemRun {
     double kOverK1 = 0;              ///< plasticity runs
     double wallFriction = 0;         ///< wall_friction runs (mu_w)
     double hertzModulus = 0;         ///< stiffness_nonlinearity runs (E*, Pa; 0: linear contacts)
+    double kcOverK = 0;              ///< cohesion runs (Luding kc/k of the particle pairs and the walls)
     double normalStiffnessScale = 1; ///< stiffness_nonlinearity's control run: its linear k over the material's
     /// stiffness_nonlinearity: the unloading stiffness's pressure exponent (NaN: fewer than two unloads far enough apart)
     double exponent = std::numeric_limits<double>::quiet_NaN();
@@ -200,7 +212,7 @@ std::string defaultDemDriver();
 std::string shellQuote(const std::string& s);
 
 /// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity, wall_friction,
-/// stiffness_nonlinearity).
+/// stiffness_nonlinearity, cohesion).
 bool demSupported(int comp);
 
 /// Runs the confirmation for the first accepted mechanism of `r` that has one (workDir receives the runs).

@@ -58,6 +58,10 @@ Protocol readProtocol(const std::string& path) {
         if (st.kind == recording::Step::Kind::Ramp || st.kind == recording::Step::Kind::Unload) {
             q.velocity = st.velocity;
             q.targetStress = st.targetStress;
+            if (st.targetStress < 0) {  // an unload into tension (recording format: a negative target)
+                q.tension = -st.targetStress;
+                q.targetStress = -1;
+            }
         } else {
             q.duration = st.duration;
         }
@@ -84,6 +88,7 @@ recording::Protocol toRecordingProtocol(const Protocol& p) {
         }
         st.velocity = s.velocity > 0 ? s.velocity : 0;
         st.targetStress = s.targetStress > 0 ? s.targetStress : 0;
+        if (s.type == StepType::Unload && s.tension > 0) st.targetStress = -s.tension;
         st.duration = s.duration > 0 ? s.duration : 0;
         rp.steps.push_back(st);
     }

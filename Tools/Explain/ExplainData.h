@@ -25,6 +25,7 @@ struct ProtocolStep {
     double velocity = -1;      ///< m/s, <0: not given
     double targetStress = -1;  ///< Pa, <0: not given
     double duration = -1;      ///< s, <0: not given
+    double tension = 0;        ///< unload into tension (lift-off test): the target tension, Pa (> 0; 0: none)
 };
 
 struct Protocol {

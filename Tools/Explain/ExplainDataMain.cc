@@ -238,8 +238,8 @@ int main(int argc, char** argv) {
                     "material seed are recordings of one material (device, protocol and noise from --seed)",
                     0, 2147483647);
         } else if (cmd == "dem-case") {
-            cli.add("kind", &kind, "null", "null | contact_relaxation | wall_friction | creep", {"null", "contact_relaxation", "wall_friction", "creep"});
-            cli.add("family", &family, "", "the pair's family (a null case is its twin without the mechanism): contact_relaxation | wall_friction | creep (contact relaxation seen in creep steps) (default: the kind; contact_relaxation for null)");
+            cli.add("kind", &kind, "null", "null | contact_relaxation | wall_friction | creep | cohesion", {"null", "contact_relaxation", "wall_friction", "creep", "cohesion"});
+            cli.add("family", &family, "", "the pair's family (a null case is its twin without the mechanism): contact_relaxation | wall_friction | creep (contact relaxation seen in creep steps) | cohesion (lift-off test) (default: the kind; contact_relaxation for null)");
             cli.add("bottom_sensor", &bottomSensor, false, "wall_friction family: the record also carries a noisy bottom_stress_Pa");
             cli.add("snr", &snr, 3, "-", "peak effect (DEM with minus DEM without the mechanism) / noise sd", 0, 1e6, true, false);
             cli.add("rho", &rho, 0.5, "-", "AR(1) coefficient of the noise", 0, 0.99);
