@@ -20,7 +20,8 @@ Usage: chapter3-polar.py BIN_DIR OUT_DIR MU [MU ...]
   BIN_DIR holds pdpm-polar; SNAP_MUS="0.1" (default) picks the mu whose snapshots are analysed.
 Writes OUT_DIR/ch3_polar.csv (one row per mu), OUT_DIR/ch3_polar_snap_muX.csv (one row per snapshot),
 OUT_DIR/ch3_eps_muX.dat, OUT_DIR/ch3_pdf_muX_tauT.dat, OUT_DIR/ch3_bins_muX_tauT.dat and, with gnuplot,
-OUT_DIR/ch3_fig3_14.png, ch3_fig3_15.png, ch3_fig3_16.png. Reported, not gated: the exit code is 0
+OUT_DIR/ch3_fig3_14.png, ch3_fig3_15.png, ch3_fig3_16.png and ch3_fig3_17.png (the tau = 0.5 distributions of
+Fig. 3.16 as surfaces of revolution about z, each divided by its mean: OUT_DIR/ch3_fig3_17_muX.dat). Reported, not gated: the exit code is 0
 unless no run could be analysed (1) or the command line is wrong (2).
 """
 import csv
@@ -331,6 +332,36 @@ def print_snapshots(mu_s, snap):
         print(f"{r['tau']:5.2f} " + " ".join(f"{c:>30}" for c in cells))
 
 
+def revolution_surface(bins_dat, path, n_phi=48):
+    """Fig. 3.17: the polar distributions of one snapshot as surfaces of revolution about z, each
+    quantity divided by its mean over the bins (its shape, not its size): for every theta bin and
+    azimuth phi the point r (sin theta cos phi, sin theta sin phi, cos theta) and r, one gnuplot splot
+    block per quantity (P, f_n, f_t, psi_t), blocks separated by two blank lines. False without bins."""
+    rows = []
+    with open(bins_dat) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            rows.append([float(x) for x in line.split()[:5]])
+    if not rows:
+        return False
+    # close the surface at the poles: the first and last bins are extended to theta = 0 and pi
+    rows = [[0.0] + rows[0][1:]] + rows + [[math.pi] + rows[-1][1:]]
+    with open(path, "w") as out:
+        out.write("# x y z r  (r = quantity / its mean over the bins; blocks: P, f_n, f_t, psi_t)\n")
+        for col in (1, 2, 3, 4):
+            mean = sum(r[col] for r in rows[1:-1]) / (len(rows) - 2)
+            for r in rows:
+                rad = r[col] / mean if mean > 0 else 0.0
+                for k in range(n_phi + 1):
+                    phi = 2 * math.pi * k / n_phi
+                    out.write(f"{rad * math.sin(r[0]) * math.cos(phi):.6g} {rad * math.sin(r[0]) * math.sin(phi):.6g} "
+                              f"{rad * math.cos(r[0]):.6g} {rad:.6g}\n")
+                out.write("\n")
+            out.write("\n")
+    return True
+
+
 def plots(out, mus, snap_mus):
     cols = {2: "eps_2", 3: "eps_4", 4: "eps_6"}
     gp = ["set terminal pngcairo size 1500,1100 noenhanced", f"set output '{out}/ch3_fig3_15.png'", "set multiplot layout 3,2",
@@ -364,6 +395,18 @@ def plots(out, mus, snap_mus):
                 gp.append("plot " + ", ".join(
                     f"'{out}/ch3_bins_mu{m}_tau{t:g}.dat' u 1:{col} w l t 'tau={t:g}'" for t in snaps))
             gp += ["unset multiplot", "unset polar"]
+        surf = f"{out}/ch3_fig3_17_mu{m}.dat"
+        if os.path.exists(f"{out}/ch3_bins_mu{m}_tau0.5.dat") and revolution_surface(f"{out}/ch3_bins_mu{m}_tau0.5.dat", surf):
+            gp += ["set terminal pngcairo size 1400,1200 noenhanced", f"set output '{out}/ch3_fig3_17.png'",
+                   "set multiplot layout 2,2", "set view equal xyz", "set view 75, 30", "unset key", "set pm3d depthorder",
+                   "set palette rgbformulae 33,13,10", "set ticslevel 0", "set xlabel 'x'", "set ylabel 'y'", "set zlabel 'z'",
+                   "set xtics 0.5 font ',8'", "set ytics 0.5 font ',8'", "set ztics 0.5 font ',8'",
+                   "set xrange [-1.5:1.5]", "set yrange [-1.5:1.5]", "set zrange [-1.5:1.5]"]
+            for k, label in enumerate(("contacts P(theta)", "normal force f_n(theta)", "tangential force f_t(theta)",
+                                       "mobilised friction psi_t(theta)")):
+                gp.append(f"set title 'mu = {m}, tau = 0.5: {label} / its mean'")
+                gp.append(f"splot '{surf}' index {k} u 1:2:3:4 w pm3d")
+            gp += ["unset multiplot", "unset pm3d", "unset view", "set xrange [*:*]", "set yrange [*:*]", "set zrange [*:*]"]
     run_gnuplot(gp)
 
 
