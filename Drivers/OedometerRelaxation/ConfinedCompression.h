@@ -129,7 +129,8 @@ protected:
         switch (st.kind) {
             case recording::Step::Kind::Ramp:
             case recording::Step::Kind::Unload: {
-                const double span = st.targetStress - rampStartStress_;
+                // (an unload into tension counts to zero force: its end, the tension or lift-off, is not known ahead)
+                const double span = std::max(st.targetStress, 0.0) - rampStartStress_;
                 inner = std::abs(span) > 0 ? (axialStress() - rampStartStress_) / span : 0;
                 break;
             }
@@ -308,6 +309,10 @@ private:
             case recording::Step::Kind::HoldPosition: setLabScale(0); break;
             case recording::Step::Kind::HoldStress:
                 setLabScale(0);
+                // a creep at the stress reached needs a compressive one (not after an unload into tension)
+                if (st.stress < 0 && axialStress() <= 0)
+                    inputError("protocol step " + std::to_string(k) + ": a creep at the stress reached, but the stress is " +
+                               fmt(axialStress()) + " Pa (not compressive, e.g. after an unload into tension); give its stress (creep:T:S)");
                 creepStress_ = st.stress >= 0 ? st.stress : std::max(axialStress(), 1.0);
                 break;
         }

@@ -40,7 +40,7 @@ public:
         p.add("material", &material_, "cocoa", "material preset", {"cocoa", "frictional"});
         p.add("k_over_k1", &kOverK1_, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
         p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
-        p.add("wall_kc_over_k", &wallKcOverK_, 0, "-", "Luding adhesion of the particle-wall pairs (bottom, piston, mould): kc/k (0: walls are not sticky; a tension unload, unload:V:S with S < 0, needs it)", Range::nonNegative());
+        p.add("wall_kc_over_k", &wallKcOverK_, 0, "-", "Luding adhesion of the particle-wall pairs (bottom, piston, mould): kc/k (0: walls are not sticky; an unload into tension, unload:V:S with S < 0, pulls on the bed only with sticky walls and adhesive, plastic contacts, else it ends at lift-off)", Range::nonNegative());
         p.add("hertz_modulus", &hertzModulus_, 0, "Pa", "Hertz contacts: effective Young's modulus E* of a Hertzian normal force in place of Luding's (0: Luding; needs --k_over_k1 1 --kc_over_k 0; the other parts of the law stay)", Range::nonNegative());
         p.add("normal_stiffness_scale", &normalScale_, 1, "-", "multiplies the material's normal contact stiffnesses k, k1, kc (the normal dashpot by its square root: the same restitution); tangential, rolling, torsion springs stay", Range::positive());
         p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());

@@ -631,6 +631,14 @@ TEST(ExplainCommand, CohesionConfirmationNeedsAnUnloadIntoTension) {
     EXPECT_DOUBLE_EQ(q.steps[1].tension, 500);
     EXPECT_LT(q.steps[1].targetStress, 0) << "no compressive target";
     EXPECT_DOUBLE_EQ(toRecordingProtocol(q).steps[1].targetStress, -500) << "written back as a negative target";
+    // an accepted cohesion that cannot run does not block one that can: on the protocol without tension
+    // plasticity is confirmed, on the one with tension cohesion (accepted first)
+    ExplainResult both = coh;
+    both.mechanisms.push_back(MechanismResult{});
+    both.mechanisms.back().comp = kPlasticity;
+    opt.driver = "/nonexistent/driver";  // not_run: only the choice of the mechanism is looked at
+    EXPECT_EQ(confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem2").mechanism, "plasticity");
+    EXPECT_EQ(confirmWithDem(both, rec, dir + "/q.json", opt, dir + "/dem2").mechanism, "cohesion");
 }
 
 TEST(ExplainCommand, DemConfirmationStatusWithoutRuns) {

@@ -341,8 +341,10 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
     const double rhos[3] = {0.0, 0.5, 0.9};
     std::vector<Job> jobs;
     for (const std::string& family : families) {
-        // the relaxation family keeps its seeds and names; the wall family counts on from its own base
-        // (bases 200 apart: distinct seeds while a family has at most 100 pairs per SNR and two SNRs)
+        // the relaxation family keeps its seeds and names; the others count on from their own bases
+        // (relaxation, wall, creep 200 apart: distinct seeds while a family has at most 100 pairs per SNR
+        // and two SNRs; cohesion from +900, distinct from the next --seed's bases while it has at most 100
+        // pairs in all)
         unsigned long s = family == "contact_relaxation" ? seed * 1000
                           : family == "wall_friction"    ? seed * 1000 + 500
                           : family == "creep"            ? seed * 1000 + 700
@@ -427,8 +429,8 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
         if (!errors[i].empty()) inputError("DEM case " + jobs[i].name + ": " + errors[i]);
 
     std::ostringstream md;
-    md << "## DEM-made cases\n\n" << jobs.size() << " cases made by the OedometerRelaxation DEM (cocoa meso-particles without "
-       << "adhesion; Tools/Explain/DemCases.h), " << samples << " samples each, AR(1) noise, quantisation, offset and drift. "
+    md << "## DEM-made cases\n\n" << jobs.size() << " cases made by the OedometerRelaxation DEM (cocoa meso-particles, without "
+       << "adhesion but in the cohesion family's positive runs; Tools/Explain/DemCases.h), " << samples << " samples each, AR(1) noise, quantisation, offset and drift. "
        << "contact_relaxation: periodic bed, baseline (MODEL.json) stiffness_nonlinearity, plasticity and a free loading curve "
        << "(loading_curve), the bed's own behaviour. wall_friction: a 30 mm mould (H/D 1) with elastic contacts, baseline "
        << "stiffness_nonlinearity and loading_curve; every second pair with a noisy bottom stress sensor. creep: the "

@@ -35,9 +35,9 @@
 // position hold).
 //
 // Cohesion (family cohesion, since 2026-12-05): the relaxation family's protocol shape (its own seeds)
-// whose unload is a lift-off test (unload:V:-S, S 1.5-3 % of the top stress: pull on the bed to the
+// whose unload is a lift-off test (unload:V:-S, S 4-8 % of the top stress: pull on the bed to the
 // tension S or until the piston is free, then hold the piston there), no relaxation; "with" has
-// Luding adhesion kc/k in [0.4, 1] for the particle pairs and the walls (--kc_over_k,
+// Luding adhesion kc/k in [0.5, 1] for the particle pairs and the walls (--kc_over_k,
 // --wall_kc_over_k), "without" none; both the cocoa plasticity k/k1 = 5 (Luding's law has no tension
 // without it). The truth's primary value is the largest tension of the noise-free "with" record (the
 // surrogate's `tension`). MODEL.json as for contact_relaxation.
@@ -56,7 +56,7 @@
 namespace pdpm::explain {
 
 struct DemCaseSpec {
-    std::string kind = "null";  ///< null | contact_relaxation | wall_friction | creep
+    std::string kind = "null";  ///< null | contact_relaxation | wall_friction | creep | cohesion
     double snr = 3, rho = 0.5;
     unsigned long seed = 1;
     int samples = 2000;
@@ -64,7 +64,7 @@ struct DemCaseSpec {
     std::string driverArgs;  ///< appended to every driver command (e.g. a smaller bed for tests)
     int threads = 1;
     /// the family of the pair (a null case is the twin without its mechanism): contact_relaxation,
-    /// wall_friction or creep; empty: the kind (contact_relaxation for a null)
+    /// wall_friction, creep or cohesion; empty: the kind (contact_relaxation for a null)
     std::string family = "";
     bool bottomSensor = false;  ///< wall_friction family: the record also has a noisy bottom_stress_Pa
 };
@@ -76,10 +76,10 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
 inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction", "creep", "cohesion"};
 /// The mechanism a positive case of family `f` carries (creep: contact_relaxation; else f itself).
 inline std::string demFamilyMechanism(const std::string& f) { return f == "creep" ? "contact_relaxation" : f; }
-/// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction, creep)" unless `f` is a family.
+/// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction, creep, cohesion)" unless `f` is a family.
 void checkDemCaseFamily(const std::string& f, const std::string& what);
 
-/// The DEM-made part of the blind benchmark: for each family (contact_relaxation, wall_friction, creep),
+/// The DEM-made part of the blind benchmark: for each family (contact_relaxation, wall_friction, creep, cohesion),
 /// `perSnr` positive cases at each SNR, each with its null twin (AR(1) rho cycled over 0, 0.5, 0.9;
 /// wall_friction: every second pair with a bottom stress sensor), generated (out/dem_runs),
 /// explained with each case's MODEL.json (out/cases, out/reports; the explainer sees only the case

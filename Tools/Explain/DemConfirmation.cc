@@ -487,16 +487,13 @@ struct BranchKnob {
     bool tension = false;                 ///< report the largest tension over the start stress instead of the unloading ratio
 };
 
-/// Largest tension over the branch's start stress, -min(y), on the unload branches in `which`, each
-/// unload together with the reload after it (the lift-off test's tension lasts into the hold and the
-/// reload's start); 0 without tension.
+/// Largest tension over the branch's start stress, -min(y), on the unload branches in `which` (a lift-off
+/// test's unload ends at its largest tension); 0 without tension.
 double tensionRatio(const std::vector<Branch>& b, const std::vector<std::size_t>& which) {
     double t = 0;
-    for (std::size_t k : which) {
-        if (k >= b.size() || b[k].phase != Phase::Unload) continue;
-        for (std::size_t q = k; q < b.size() && (q == k || b[q].phase == Phase::Reload); ++q)
-            for (double y : b[q].y) t = std::max(t, -y);
-    }
+    for (std::size_t k : which)
+        if (k < b.size() && b[k].phase == Phase::Unload)
+            for (double y : b[k].y) t = std::max(t, -y);
     return t;
 }
 
@@ -523,7 +520,7 @@ DemResult confirmBranches(DemContext& ctx, const BranchKnob& knob, const Recordi
     d.ratioYMin = knob.yMin;
     const double labRatio = unloadRatio(lab, cal, knob.yMin);
     const bool byTransmission = knob.calibration == Calibration::Transmission;
-    if (!(labRatio > 0) && !byTransmission)  // the sensor's calibration reports the ratio but does not need it
+    if (!(labRatio > 0) && !byTransmission && !knob.tension)  // the sensor's calibration and cohesion report it but do not need it
         return ctx.fail("no unloading stiffness could be measured on the calibration branches of the recording");
     if (byTransmission) {
         d.labTransmission = loadingTransmission(rec.t, rec.strain, rec.stress, rec.bottom).slope;
@@ -717,9 +714,7 @@ DemResult confirmWallFriction(DemContext& ctx, const MechanismResult& wall, cons
 DemResult confirmCohesion(DemContext& ctx, const Recording& rec, const std::string& protocolPath) {
     ctx.d.mechanism = "cohesion";
     if (!ctx.protocol) return ctx.fail("protocol: " + ctx.protocolError);
-    bool pulls = false;
-    for (const recording::Step& st : ctx.protocol->steps) pulls |= st.kind == recording::Step::Kind::Unload && st.targetStress < 0;
-    if (!pulls) {
+    if (!pullsOnTheBed(*ctx.protocol)) {
         ctx.d.status = "not_run";
         ctx.d.reason = "the protocol has no unload into tension (an unload with a negative target stress: a lift-off test); the DEM "
                        "driver replays a protocol by its stress targets, and adhesion shows in the DEM only where the piston pulls on the bed";
@@ -972,9 +967,14 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     // when it is the only one)
     const MechanismResult* m = nullptr;
     const MechanismResult* wallWithoutSize = nullptr;
+    const MechanismResult* cohesionWithoutPull = nullptr;  // cohesion on a protocol without an unload into tension
     const MechanismResult* nonlinearity = nullptr;
     for (const auto& mr : r.mechanisms) {
         if (!demSupported(mr.comp)) continue;
+        if (mr.comp == kCohesion && (!protoError.empty() || !pullsOnTheBed(proto))) {  // it would only say not_run
+            if (!cohesionWithoutPull) cohesionWithoutPull = &mr;
+            continue;
+        }
         if (mr.comp == kNonlinearity) {  // last choice: every other ingredient changes the loading curve too
             if (!nonlinearity) nonlinearity = &mr;
             continue;
@@ -990,6 +990,7 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     }
     if (!m) m = nonlinearity;
     if (!m) m = wallWithoutSize;
+    if (!m) m = cohesionWithoutPull;
     if (!opt.mechanism.empty()) {  // the user's choice among the accepted mechanisms
         m = nullptr;
         for (const auto& mr : r.mechanisms)
@@ -1031,6 +1032,12 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         case kCohesion: return confirmCohesion(ctx, rec, protocolPath);
         default: return confirmWallFriction(ctx, *m, rec, protocolPath);
     }
+}
+
+bool pullsOnTheBed(const recording::Protocol& p) {
+    for (const recording::Step& st : p.steps)
+        if (st.kind == recording::Step::Kind::Unload && st.targetStress < 0) return true;
+    return false;
 }
 
 bool demSupported(int comp) {
@@ -1164,7 +1171,7 @@ std::string demMarkdown(const DemResult& d) {
     } else if (d.mechanism == "cohesion") {
         os << scaled << "; Luding's law with the material's plasticity), once without adhesion and once with adhesive contacts "
            << formatted("and sticky walls (kc/k = %.3g for the particle pairs and the walls, of %zu values the one with the smallest "
-                        "error on %d unload branch(es) into tension; largest tension over the start stress: recording %.3g, "
+                        "error on %d unload branch(es); largest tension over the start stress: recording %.3g, "
                         "DEM %.3g with adhesion, %.3g without). %sthe %d reload branch(es) the choice did not see",
                         a.kcOverK, d.runs.size() - 1, d.calibrationHolds, d.labMacro, a.macro, d.runs.front().macro, units,
                         d.heldoutHolds);

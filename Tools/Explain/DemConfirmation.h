@@ -80,6 +80,10 @@
 #include "Explain.h"
 #include "IO/Json.h"
 
+namespace pdpm::recording {
+struct Protocol;
+}
+
 namespace pdpm::explain {
 
 struct DemOptions {
@@ -214,6 +218,9 @@ std::string shellQuote(const std::string& s);
 /// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity, wall_friction,
 /// stiffness_nonlinearity, cohesion).
 bool demSupported(int comp);
+/// Whether a protocol pulls on the bed: an unload with a negative target stress (the lift-off test), the
+/// only place where the DEM's adhesion shows (cohesion's confirmation needs one).
+bool pullsOnTheBed(const recording::Protocol& p);
 
 /// Runs the confirmation for the first accepted mechanism of `r` that has one (workDir receives the runs).
 DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std::string& protocolPath,

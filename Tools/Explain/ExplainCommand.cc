@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <iostream>
 #include <sstream>
 
@@ -70,15 +71,21 @@ int runExplainCommand(const std::vector<std::string>& args) {
             writeSeveralReport(output, several, recs, protos, opt);
         }
         // Step 6: the DEM re-run, on the first recording whose own explanation accepted a mechanism the
-        // DEM step supports (contact_relaxation, plasticity, wall_friction; stiffness_nonlinearity only
-        // where no recording has one of those; with --dem_mechanism the named one; else recording 1);
+        // DEM step supports (contact_relaxation, plasticity, wall_friction, cohesion; stiffness_nonlinearity
+        // only where no recording has one of those; with --dem_mechanism the named one; else recording 1);
         // its block replaces the placeholder.
         std::size_t demRec = 0;
-        // (wall_friction without the device's size ranks with stiffness_nonlinearity, as in confirmWithDem)
+        // (wall_friction without the device's size and cohesion without an unload into tension rank with
+        // stiffness_nonlinearity, as in confirmWithDem)
+        const auto pulls = [&](std::size_t k) {
+            return std::any_of(protos[k].steps.begin(), protos[k].steps.end(), [](const ProtocolStep& s) { return s.tension > 0; });
+        };
         const auto rank = [&](int comp, std::size_t k) {
             if (!dem.mechanism.empty()) return compName(comp) == dem.mechanism ? 2 : 0;
             if (!demSupported(comp)) return 0;
-            if (comp == kNonlinearity || (comp == kWallFriction && !(protos[k].diameter > 0 && protos[k].height > 0))) return 1;
+            if (comp == kNonlinearity || (comp == kWallFriction && !(protos[k].diameter > 0 && protos[k].height > 0)) ||
+                (comp == kCohesion && !pulls(k)))
+                return 1;
             return 2;
         };
         int bestRank = 0;

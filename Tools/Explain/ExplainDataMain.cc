@@ -1,6 +1,6 @@
 // pdpm-explain-data: inputs for pdpm-explain in the recording format.
 //   generate     --kind K --snr S --rho R --seed N --samples M [--material_seed K] --output CASE_DIR --truth TRUTH.json
-//   dem-case     --kind null|contact_relaxation|wall_friction|creep [--family F] [--bottom_sensor 1] --snr S --rho R
+//   dem-case     --kind null|contact_relaxation|wall_friction|creep|cohesion [--family F] [--bottom_sensor 1] --snr S --rho R
 //                --seed N --output CASE_DIR --truth TRUTH.json
 //                a case made by the OedometerRelaxation DEM (Tools/Explain/DemCases.h); CASE_DIR/model.json
 //                holds the baseline the explainer must be given

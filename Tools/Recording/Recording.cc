@@ -350,7 +350,10 @@ Protocol protocolFromJson(const Json& j) {
         } else if (type == "hold_stress") {
             s.kind = Step::Kind::HoldStress;
             s.duration = o.at("duration_s").asNumber(where + ".duration_s");
-            if (const Json* x = o.find("stress_Pa")) s.stress = x->asNumber(where + ".stress_Pa");
+            if (const Json* x = o.find("stress_Pa")) {
+                s.stress = x->asNumber(where + ".stress_Pa");
+                if (!(s.stress > 0)) inputError(where + ".stress_Pa: must be > 0 (got " + fmt(s.stress) + ")");
+            }
             allowed = {"type", "duration_s", "stress_Pa"};
         } else {
             inputError(where + ".type: unknown step type '" + type + "' (ramp, hold_position, unload, hold_stress)");
@@ -439,7 +442,10 @@ std::vector<Step> parseSteps(const std::string& text) {
         } else if (f[0] == "creep" && (v.size() == 1 || v.size() == 2)) {
             s.kind = Step::Kind::HoldStress;
             s.duration = v[0];
-            if (v.size() == 2) s.stress = v[1];
+            if (v.size() == 2) {
+                s.stress = v[1];
+                if (!(s.stress > 0)) inputError("--steps: " + where + ": the creep stress S must be > 0 (got " + fmt(s.stress) + ")");
+            }
         } else {
             inputError("--steps: " + where +
                        ": expected ramp:V:S, hold:T, unload:V:S or creep:T[:S] (V m/s, S Pa, T lab seconds)");
