@@ -29,11 +29,7 @@ Cycle run(const std::string& ratio) {
                                              "--stress_scale", "0.1", "--relax_C", "0", "--kc_over_k", "0", "--k_over_k1", ratio,
                                              "--name", "k" + ratio, "--quiet", "--threads", "1"});
     if (c.rc != 0) return c;
-    const auto& rec = d.recordingData();
-    const int cs = rec.column("step"), ce = rec.column("axial_strain"), cp = rec.column("axial_stress_Pa");
-    for (const auto& row : rec.rows) {
-        const int step = static_cast<int>(row[static_cast<std::size_t>(cs)]);
-        const double e = row[static_cast<std::size_t>(ce)], s = row[static_cast<std::size_t>(cp)];
+    for (const auto& [step, e, s] : oedometer_selftest::samples(d)) {
         if (step == 0 && s > c.peakStress) c.peakStress = s, c.peakStrain = e;
         if (step == 1) c.unloadedStrain = e;  // last sample of the unload
     }

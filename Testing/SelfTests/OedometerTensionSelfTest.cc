@@ -37,11 +37,7 @@ LiftOff run(const std::string& name, std::vector<std::string> extra, const std::
     LiftOff c;
     c.rc = oedometer_selftest::runDriver(d, args);
     if (c.rc != 0) return c;
-    const auto& rec = d.recordingData();
-    const int cs = rec.column("step"), ce = rec.column("axial_strain"), cp = rec.column("axial_stress_Pa");
-    for (const auto& row : rec.rows) {
-        const int step = static_cast<int>(row[static_cast<std::size_t>(cs)]);
-        const double e = row[static_cast<std::size_t>(ce)], s = row[static_cast<std::size_t>(cp)];
+    for (const auto& [step, e, s] : oedometer_selftest::samples(d)) {
         if (step == 0) c.peak = std::max(c.peak, s);
         if (step == 1) c.tension = std::max(c.tension, -s), c.endStrain = e, c.endStress = s;  // last sample: the unload's end
     }
