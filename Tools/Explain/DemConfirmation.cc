@@ -943,6 +943,14 @@ std::string shellQuote(const std::string& s) {
     return q + "'";
 }
 
+namespace {
+/// The reason of a `not_supported` status.
+std::string notWired(const std::string& mechanism) {
+    return "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction, stiffness_nonlinearity and cohesion; " +
+           mechanism + " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
+}
+} // namespace
+
 DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std::string& protocolPath,
                          const DemOptions& opt, const std::string& workDir) {
     DemResult d;
@@ -1003,16 +1011,14 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         if (!demSupported(m->comp)) {
             d.status = "not_supported";
             d.mechanism = opt.mechanism;
-            d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction, stiffness_nonlinearity and cohesion; " +
-                       d.mechanism + " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
+            d.reason = notWired(d.mechanism);
             return d;
         }
     }
     if (!m) {
         d.status = "not_supported";
         d.mechanism = compName(r.mechanisms.front().comp);
-        d.reason = "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction, stiffness_nonlinearity and cohesion; " + d.mechanism +
-                   " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
+        d.reason = notWired(d.mechanism);
         return d;
     }
     DemContext ctx{opt, opt.driver.empty() ? defaultDemDriver() : opt.driver, workDir, std::chrono::steady_clock::now(), d};
