@@ -275,11 +275,10 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
                "Janssen's mu_w K of the noise-free DEM record: -ln(T)/(4 H/D), T its bottom/piston transmission on first loading");
     } else if (positive && coh) {
         // the surrogate's tension: the largest tension of the noise-free "with" record
-        double tension = 0;
-        for (double x : with.stress) tension = std::max(tension, -x);
+        const double tension = effWith.empty() ? 0.0 : -*std::min_element(effWith.begin(), effWith.end());
         tp.set("kc_over_k", kc);
         tp.set("tension", tension);
-        tr.set("primary_parameter", "tension");
+        tr.set("primary_parameter", demFamilyPrimary(family));
         tr.set("primary_value", tension);
         tr.set("primary_off", 0.0);
         tr.set("primary_definition", "largest tension (Pa) of the noise-free DEM record's lift-off unload");
@@ -405,7 +404,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
                 scores[i] = scoreCase(rep, truth);
                 const auto& ms = rep.at("mechanisms").asArray();
                 firstFound[i] = ms.empty() ? rep.at("verdict").asString() : ms.front().at("name").asString();
-                const std::string primary = j.spec.family == "wall_friction" ? "muK" : j.spec.family == "cohesion" ? "tension" : "C";
+                const std::string primary = demFamilyPrimary(j.spec.family);
                 const std::string mechanism = demFamilyMechanism(j.spec.family);
                 // wall_friction: the bottom sensor's Janssen estimate where the report has one (the piston
                 // term's muK stands for the Janssen product only where the loading curve is not free)

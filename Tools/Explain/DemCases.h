@@ -76,6 +76,8 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
 inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction", "creep", "cohesion"};
 /// The mechanism a positive case of family `f` carries (creep: contact_relaxation; else f itself).
 inline std::string demFamilyMechanism(const std::string& f) { return f == "creep" ? "contact_relaxation" : f; }
+/// The report parameter a positive case of family `f` is scored on (wall_friction: muK; cohesion: tension; else C).
+inline std::string demFamilyPrimary(const std::string& f) { return f == "wall_friction" ? "muK" : f == "cohesion" ? "tension" : "C"; }
 /// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction, creep, cohesion)" unless `f` is a family.
 void checkDemCaseFamily(const std::string& f, const std::string& what);
 
