@@ -244,6 +244,85 @@ Recording curvedBedRecording(double C, double t0, double sigma, unsigned seed) {
 }
 } // namespace
 
+// The hysteresis term: off (both exponents 1) it is the plasticity branch exactly; on, the unload
+// runs below it and the reload above it (a loop), both closed-form in the branch value L, and the
+// reload rejoins the virgin curve at the largest strain.
+TEST(ExplainModel, HysteresisOffIsTheBranchAndOnOpensALoop) {
+    Recording rec;
+    Protocol proto;
+    proto.height = 0.02;
+    // 0 -> 0.1 (virgin), 0.1 -> 0.04 (unload to lift-off), 0.04 -> 0.12 (reload past the top)
+    auto strainAt = [](int i) { return i <= 1000 ? 1e-4 * i : i <= 1600 ? 0.1 - 1e-4 * (i - 1000) : 0.04 + 1e-4 * (i - 1600); };
+    for (int i = 0; i <= 2400; ++i) {
+        rec.t.push_back(i);
+        rec.strain.push_back(strainAt(i));
+        rec.stress.push_back(0);
+    }
+    const Model M(makeModelInput(rec, proto));
+    std::vector<double> p = M.defaults();
+    const double E = 1e6, lam = 3, top = E * 0.1, ep = 0.1 * (1 - 1 / lam);
+    p[pE] = E;
+    p[pEps0] = 0;
+    p[pLambda] = lam;
+    std::vector<char> on(kNumComp, 0), onH(kNumComp, 0);
+    on[kPlasticity] = onH[kPlasticity] = 1;
+    onH[kHysteresis] = 1;
+    std::vector<double> yb, yh;
+    M.evaluate(p, on, yb);
+    M.evaluate(p, onH, yh);
+    EXPECT_EQ(yb, yh) << "exponents 1: the hysteresis term is off";
+    p[pUnloadExp] = 2;
+    p[pReloadExp] = 0.5;
+    M.evaluate(p, onH, yh);
+    auto branch = [&](double e) { return std::max(lam * E * e - (lam - 1) * top, 0.0); };  // L(e)
+    for (int i = 0; i <= 2400; i += 50) {
+        const double e = strainAt(i), L = branch(e);
+        if (i <= 1000 || i >= 2200) {
+            EXPECT_NEAR(yh[std::size_t(i)], yb[std::size_t(i)], 1e-6 * top) << "virgin curve at sample " << i;
+        } else if (i < 1600) {
+            EXPECT_NEAR(yh[std::size_t(i)], top * std::pow(L / top, 2), 1e-6 * top) << "unload at sample " << i;
+            EXPECT_LE(yh[std::size_t(i)], yb[std::size_t(i)] + 1e-6 * top);
+        } else {
+            EXPECT_NEAR(yh[std::size_t(i)], top * std::sqrt(L / top), 1e-6 * top) << "reload at sample " << i;
+            EXPECT_GE(yh[std::size_t(i)], yb[std::size_t(i)] - 1e-6 * top);
+        }
+    }
+    EXPECT_GT(yb[1300], 0.0);
+    EXPECT_LT(yh[1300], yb[1300] - 0.05 * top) << "the loop is open in the unload";
+    EXPECT_NEAR(branch(ep), 0.0, 1e-6 * top);
+}
+
+// device.zero_before_contact: read and written by the recording library, and in the explainer's model
+// the first contact cannot lie before the record's first strain (the bed is unloaded when it begins).
+TEST(ExplainInput, ZeroBeforeContactBoundsTheContactStrain) {
+    const pdpm::testing::TempDir dir;
+    Protocol proto;
+    proto.height = 0.02;
+    proto.device = "oedometer";
+    proto.steps.push_back({});
+    proto.steps.back().velocity = 1e-5;
+    proto.steps.back().targetStress = 1e3;
+    Recording rec;
+    for (int i = 0; i <= 100; ++i) {
+        rec.t.push_back(i);
+        rec.strain.push_back(0.01 + 1e-4 * i);
+        rec.stress.push_back(1e4 * 1e-4 * i);
+    }
+    const Model free(makeModelInput(rec, proto));
+    EXPECT_NEAR(free.defs()[pEps0].lo, 0.01 - 0.01, 1e-12) << "default: contact up to a strain range before the record";
+    proto.zeroBeforeContact = true;
+    const std::string path = dir.file("protocol.json");
+    recording::writeProtocol(path, toRecordingProtocol(proto));
+    const Protocol back = readProtocol(path);
+    EXPECT_TRUE(back.zeroBeforeContact);
+    const Model tared(makeModelInput(rec, back));
+    EXPECT_DOUBLE_EQ(tared.defs()[pEps0].lo, 0.01);
+    writeWholeFile(path, "{\"format\": \"pdpm-oedometer-protocol\", \"version\": 1, \"device\": {\"name\": \"x\", "
+                         "\"height_m\": 0.02, \"zero_before_contact\": \"yes\"}, \"steps\": [{\"type\": \"hold_position\", "
+                         "\"duration_s\": 10}]}");
+    EXPECT_THROW(readProtocol(path), InputError);
+}
+
 TEST(ExplainModel, LoadingCurveIsAFunctionOfStrainAloneAndOffIsIdentity) {
     const Recording rec = curvedBedRecording(0, 1, 1, 3);
     Protocol proto;
@@ -471,6 +550,9 @@ TEST(ExplainNuisances, DriftThatAbsorbedCohesionIsDroppedWithIt) {
     EXPECT_NE(std::find(r.nuisancesDropped.begin(), r.nuisancesDropped.end(), kDrift), r.nuisancesDropped.end());
     EXPECT_EQ(std::find(r.nuisances.begin(), r.nuisances.end(), kDrift), r.nuisances.end());
     const double tension = g.truth.at("parameters").at("tension").asNumber();
+    // the tension the model reaches in the record: at most the strength (the floor)
+    EXPECT_GE(r.mechanisms.front().reachedTension, 0.0);
+    EXPECT_LE(r.mechanisms.front().reachedTension, r.mechanisms.front().value[0] * (1 + 1e-12));
     EXPECT_LE(r.mechanisms.front().lo[0], tension);
     EXPECT_GE(r.mechanisms.front().hi[0], tension);
     // the mismatch is located in the first loading, where the truth's visible effect is

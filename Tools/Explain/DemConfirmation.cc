@@ -483,7 +483,7 @@ struct BranchKnob {
     std::vector<double> grid = {};        ///< Grid: the factors of the guess
     /// Transmission: the mould's H/D over the recording's (Janssen's exponent scales with H/D)
     double aspectScale = 1;
-    std::string flag2;                    ///< a second driver flag given the same value (cohesion: the walls' adhesion)
+    std::string flag2 = {};               ///< a second driver flag given the same value (cohesion: the walls' adhesion)
     bool tension = false;                 ///< report the largest tension over the start stress instead of the unloading ratio
 };
 

@@ -84,6 +84,10 @@ struct MechanismResult {
     /// sensor's loading transmission T, -ln T / (4 H/D), with the 95 % interval of T (T +- 1.96 se)
     /// carried through (-1: none). The piston-stress term's muK is the one in `value`.
     double sensorMuK = -1, sensorMuKLo = -1, sensorMuKHi = -1;
+    /// cohesion only: the largest tension the final model (without the sensor offset and drift)
+    /// reaches in the record, Pa. Equal to the `tension` parameter when the record pulls the bed to
+    /// its strength; smaller when the test stopped before (then `tension` is only bounded below).
+    double reachedTension = -1;
 };
 
 /// What the recording's bottom stress sensor says about wall friction (Documentation/tools-explain.md,

@@ -45,6 +45,7 @@ Protocol readProtocol(const std::string& path) {
     p.material = name && name->isString() ? name->asString() : rp.material.dump(0);
     p.diameter = rp.diameter;  // 0: laterally periodic (no side wall)
     p.height = rp.height;
+    p.zeroBeforeContact = rp.zeroBeforeContact;
     if (!(p.height > 0)) inputError(path + ": device.height_m must be > 0 (the explainer converts piston travel to strain)");
     if (rp.steps.empty()) inputError(path + ": steps is empty");
     for (const auto& st : rp.steps) {
@@ -76,6 +77,7 @@ recording::Protocol toRecordingProtocol(const Protocol& p) {
     rp.device = p.device.empty() ? "oedometer" : p.device;
     rp.diameter = p.diameter;
     rp.height = p.height;
+    rp.zeroBeforeContact = p.zeroBeforeContact;
     rp.material = Json::object();
     rp.material.set("name", p.material);
     for (const auto& s : p.steps) {

@@ -33,6 +33,7 @@ struct Protocol {
     double diameter = 0;  ///< m
     double height = 0;    ///< m (initial fill height)
     std::string material;
+    bool zeroBeforeContact = false;  ///< device.zero_before_contact (Documentation/recording-format.md)
     std::vector<ProtocolStep> steps;
     std::string source;
 };

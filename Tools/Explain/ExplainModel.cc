@@ -13,7 +13,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kCompNames[kNumComp] = {"baseline",   "instrument_compliance", "sensor_drift",
                                           "contact_relaxation", "plasticity", "cohesion",
                                           "wall_friction", "rate_dependence", "stiffness_nonlinearity",
-                                          "rolling_resistance", "loading_curve"};
+                                          "rolling_resistance", "loading_curve", "hysteresis"};
 constexpr std::size_t kMaxKnots = 48;
 const char* knotName(std::size_t k) {
     static const std::vector<std::string> names = [] {
@@ -50,6 +50,7 @@ ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
     in.creep = creepSamples(rec, proto);
     for (std::size_t i = 0; i < n; ++i) in.hold[i] = in.hold[i] || in.creep[i];
     in.height = proto.height;
+    in.contactAtStart = proto.zeroBeforeContact;
     in.diameter = proto.diameter;
     const auto [lo, hi] = std::minmax_element(rec.strain.begin(), rec.strain.end());
     in.epsMin = *lo;
@@ -68,7 +69,7 @@ Model::Model(const ModelInput& in) : in_(in) {
     const double tauScale = rmax > 0 ? 0.02 / rmax : 1.0;  // gives 2 % of E*range at the top rate
     defs_ = {
         {"E", "Pa", kBaseline, E0 * 1e-3, E0 * 1e3, kNaN, 0, true},
-        {"eps0", "-", kBaseline, in.epsMin - in.epsRange, in.epsMin + 0.95 * in.epsRange, kNaN, 0.05 * in.epsRange, false},
+        {"eps0", "-", kBaseline, in.contactAtStart ? in.epsMin : in.epsMin - in.epsRange, in.epsMin + 0.95 * in.epsRange, kNaN, 0.05 * in.epsRange, false},
         {"compliance_ratio", "-", kCompliance, 0, 0.3, 0, 0.05, false},
         {"offset", "Pa", kDrift, -in.stressMax, in.stressMax, 0, 0.01 * in.stressMax, false},
         {"drift_rate", "Pa/s", kDrift, -in.stressMax / in.duration, in.stressMax / in.duration, 0,
@@ -80,6 +81,8 @@ Model::Model(const ModelInput& in) : in_(in) {
         {"muK", "-", kWallFriction, 0, 1.5, 0, 0.05, false},
         {"tau_v", "s", kRate, 0, 1e3 * tauScale, 0, tauScale, false},
         {"n", "-", kNonlinearity, 0.2, 4, 1, 0.1, false},
+        {"unload_exponent", "-", kHysteresis, 0.25, 8, 1, 0.1, false},
+        {"reload_exponent", "-", kHysteresis, 0.25, 8, 1, 0.1, false},
     };
     // loading_curve knots: every virgin hold strain (where the stress level of a hold is set), the
     // largest strain, and fill-in knots so that no gap exceeds epsRange/8. A creep step that begins
@@ -180,14 +183,20 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
     const double muK = on[kWallFriction] ? p[pMuK] : 0.0;
     const double a = on[kDrift] ? p[pOffset] : 0.0, b = on[kDrift] ? p[pDrift] : 0.0;
     const bool linear = nExp == 1.0;
+    const double hu = on[kHysteresis] ? p[pUnloadExp] : 1.0, hr = on[kHysteresis] ? p[pReloadExp] : 1.0;
+    const bool hy = hu != 1.0 || hr != 1.0;
     const bool curve = on[kLoadingCurve] && !knots_.empty();
     // cohesion: the cohesive bonds hold a looser packing on first loading, which yields an extra
     // compaction of strain scale x_c = sigma_c / E (first-loading curve E x^2 / (x + x_c) instead of
     // E x; the collapse is permanent, so unloading and reloading keep the deficit reached at the
     // largest strain); on unloading the branch continues below zero force into tension down to
     // -sigma_c. No tension before the first contact.
+    // With a free loading curve the loose packing is one of the first-loading shapes the curve already
+    // takes (it is a function of strain on first loading, its deficit kept by the branch below):
+    // cohesion is then the tension branch alone, so an unidentified strength (an unload stopped
+    // before the bed lets go) cannot reshape the first loading through x_c.
     const bool coh = on[kCohesion] && p[pTension] > 0;
-    const double xc = coh ? p[pTension] / E : 0.0;
+    const double xc = coh && !curve ? p[pTension] / E : 0.0;
     auto virgin = [&](double e) {  // elastic skeleton curve (linear extension into tension with cohesion)
         const double x = e - e0;
         if (x <= 0) return coh ? E * x : 0.0;
@@ -211,6 +220,7 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
         double Dcur = 0, Dprev = 0, Dend = 0, eEnd = 0, selEnd = 0, th = 0, sh = 0;
         bool inHold = false;
         double m = 1.0, ePrev = 0;
+        Loop hyst{hu, hr, 0.005 * er};
         for (std::size_t i = 0; i < n; ++i) {
             const double e = in_.eps[i] - (kap > 0 ? kap / E * inner[i] : 0.0);
             const double x = virgin(e);
@@ -220,10 +230,12 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
                 sAtMax = x;
                 dLoose = loose(e);
                 sel = e > e0 ? x - dLoose : 0.0;
+                hyst.virgin = true;
             } else {
                 sel = lam * x - (lam - 1) * sAtMax - dLoose;
             }
             sel = std::max(sel, emax > e0 ? floorS : 0.0);
+            if (hy && e < emax) sel = hyst.branch(e, sel, sAtMax - dLoose);
             if (C > 0) {
                 if (in_.hold[i]) {
                     if (!inHold) {
@@ -262,6 +274,35 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
         }
     }
     for (std::size_t i = 0; i < n; ++i) out[i] = inner[i] + a + b * (in_.t[i] - in_.t[0]);
+}
+
+// ---- hysteresis: the unload-reload loop below the largest strain --------------------------------
+
+double Model::Loop::branch(double e, double L, double top) {
+    auto value = [&](double Lq) {
+        if (!up) return (Lq > 0 && aL > 0) ? aS * std::pow(Lq / aL, hu) : Lq + (aL < 0 ? aS - aL : 0.0);
+        const double v = top > aL ? std::clamp((Lq - aL) / (top - aL), 0.0, 1.0) : 1.0;
+        return aS + (top - aS) * std::pow(v, hr);
+    };
+    if (virgin) {  // the first sample below the largest strain: an unload from the top
+        virgin = false;
+        up = false;
+        aL = aS = top;
+        ext = e;
+        extL = L;
+    }
+    if (up ? e > ext : e < ext) {
+        ext = e;
+        extL = L;
+    } else if (std::abs(e - ext) > turn) {  // a reversal at the extreme reached
+        const double sExt = value(extL);
+        up = !up;
+        aL = extL;
+        aS = sExt;
+        ext = e;
+        extL = L;
+    }
+    return value(L);
 }
 
 // ---- fitting --------------------------------------------------------------------------------

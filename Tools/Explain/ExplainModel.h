@@ -13,7 +13,8 @@
 //   cohesion        sigma_c (off: 0): the unloading branch continues below zero force into tension
 //                   down to -sigma_c (only after first contact), and the cohesive loose packing gives
 //                   an extra first-loading compliance of strain scale x_c = sigma_c/E (first-loading
-//                   curve E x^2/(x + x_c); the collapse is permanent, unload/reload keep the deficit)
+//                   curve E x^2/(x + x_c); the collapse is permanent, unload/reload keep the deficit;
+//                   with loading_curve in the model the curve takes that shape: x_c = 0)
 //   contact_relaxation  during each hold (constant strain) the stress decays as thesis Eq. 4.3,
 //                   s = s_h (1 + (t - t_h)/t0)^(-C) (off: C = 0); after the hold the deficit is
 //                   recovered over the strain the loading curve needs to make it up
@@ -27,6 +28,13 @@
 //                   hold strain (a virgin creep step: the largest strain it reaches) and at most epsRange/8 apart, the last held at 0 (E sets the level; off: every knot 0). A function of strain
 //                   alone, so it cannot imitate anything that happens at constant strain (hold decay,
 //                   rate steps); it absorbs stiffness_nonlinearity, which is then not tested
+//   hysteresis      (baseline only, never a candidate) the unload-reload loop of a frictional bed:
+//                   below the largest strain the model above gives the branch value L(e) (the
+//                   plasticity line, clamped at the cohesion floor); an unload from a reversal point
+//                   (L_a, s_a) follows s = s_a (L/L_a)^h_u while L > 0 (s = L below), a reload
+//                   s = s_a + (s_top - s_a) v^h_r, v = (L - L_a)/(s_top - L_a), back to the top of the
+//                   branch at the largest strain (off: h_u = h_r = 1, i.e. s = L). A reversal is a
+//                   strain turn of more than 0.5 % of the strain range
 //   instrument_compliance (nuisance)  eps_true = eps_meas - kappa/E * stress (off: kappa = 0)
 //   sensor_drift (nuisance)           stress + a + b (t - t_0) (off: a = b = 0)
 #pragma once
@@ -50,6 +58,7 @@ enum Comp : int {
     kNonlinearity,
     kRolling,
     kLoadingCurve,
+    kHysteresis,
     kNumComp
 };
 constexpr int kLastMechanism = kRolling;  ///< mechanisms are kRelaxation..kLastMechanism
@@ -62,7 +71,7 @@ bool isMechanism(int c);
 
 /// Fixed parameters; the loading_curve knots follow from index kNumPar on (Model::knotStrains()).
 enum Par : int {
-    pE = 0, pEps0, pKappa, pOffset, pDrift, pRelaxC, pRelaxT0, pLambda, pTension, pMuK, pTauV, pExpN, kNumPar
+    pE = 0, pEps0, pKappa, pOffset, pDrift, pRelaxC, pRelaxT0, pLambda, pTension, pMuK, pTauV, pExpN, pUnloadExp, pReloadExp, kNumPar
 };
 
 struct ParDef {
@@ -82,6 +91,9 @@ struct ModelInput {
     std::vector<char> creep;  ///< 1 in the creep steps (constant stress) of the protocol (also hold)
     double height = 0.06, diameter = 0.149;
     double epsRange = 1, epsMin = 0, stressMax = 1, duration = 1;
+    /// the protocol's device.zero_before_contact: first contact (eps0)
+    /// at or after the first sample's strain: the bed is not loaded before the record begins
+    bool contactAtStart = false;
 };
 
 ModelInput makeModelInput(const Recording& rec, const Protocol& proto);
@@ -109,6 +121,14 @@ public:
     const std::vector<double>& knotStrains() const { return knots_; }
 
 private:
+    /// State of the hysteresis term along one evaluation (see the header comment).
+    struct Loop {
+        double hu = 1, hr = 1, turn = 0;      ///< exponents; strain turn that counts as a reversal
+        bool virgin = true, up = false;       ///< on the virgin curve; reloading (else unloading)
+        double aL = 0, aS = 0, ext = 0, extL = 0;  ///< reversal point (branch value, stress); extreme strain and its L
+        /// Stress at strain e whose loop-free branch value is L; top: the branch value at the largest strain.
+        double branch(double e, double L, double top);
+    };
     double curveFactor(const std::vector<double>& p, double e) const;  ///< 1 + c(e) of loading_curve
     ModelInput in_;
     std::vector<ParDef> defs_;

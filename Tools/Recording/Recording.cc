@@ -276,6 +276,7 @@ Json protocolToJson(const Protocol& p) {
     dev.set("diameter_m", p.diameter);
     dev.set("height_m", p.height);
     dev.set("wall_friction", p.wallFriction);
+    if (p.zeroBeforeContact) dev.set("zero_before_contact", true);
     j.set("device", dev);
     j.set("material", p.material);
     Json steps = Json::array();
@@ -320,6 +321,7 @@ Protocol protocolFromJson(const Json& j) {
     if (const Json* x = d.find("diameter_m")) p.diameter = x->asNumber("device.diameter_m");
     if (const Json* x = d.find("height_m")) p.height = x->asNumber("device.height_m");
     if (const Json* x = d.find("wall_friction")) p.wallFriction = x->asNumber("device.wall_friction");
+    if (const Json* x = d.find("zero_before_contact")) p.zeroBeforeContact = x->asBool("device.zero_before_contact");
     if (p.diameter < 0 || p.height < 0 || p.wallFriction < 0) inputError("device: dimensions and wall_friction must be >= 0");
     if (const Json* m = j.find("material")) {
         m->asObject("material");

@@ -64,6 +64,9 @@ struct Protocol {
     double diameter = 0;                ///< m (0: laterally periodic)
     double height = 0;                  ///< m, fill height
     double wallFriction = 0;
+    /// device.zero_before_contact: the load cell reads zero with the piston free, and the record
+    /// begins with the piston just touching the bed or before (no stress before its first sample)
+    bool zeroBeforeContact = false;
     Json material = Json::object();     ///< free-form material description
     Json extra = Json::object();        ///< free-form: time scaling, seeds, fitted values ...
     std::vector<Step> steps;
