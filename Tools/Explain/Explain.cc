@@ -506,30 +506,35 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             R.nuisances.push_back(c);
         }
     }
-    // noise model re-estimated on the nuisance-corrected baseline residual
+    // noise model re-estimated on the nuisance-corrected baseline residual, the baseline refitted with
+    // it and recorded (again after a polish in round 1, below)
     std::vector<double> r0(n);
-    for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
-    nm = estimateNoise(r0, noiseSeg);
-    if (opt.knownNoiseSigma > 0) {  // instrument noise given: white, n_eff = n
-        nm.sigma = opt.knownNoiseSigma;
-        nm.rho = 0;
-        nm.arVar = 0;
-        nm.whiteVar = nm.sigma * nm.sigma;
-        nm.nEff = double(n);
-    }
-    useNoise(nm);
-    cur = F.fit(on, {cur.p});  // refit with the final noise model (and its covariance)
-    for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
-    R.noise = nm;
-    R.pNoiseBaseline = blockChiSquarePValue(r0, nm, F.nFree(on));
-    R.pBaseline = cur.p;
-    R.onBaseline = on;
-    R.yBaseline = cur.model;
-    R.rmseBaseline = rmsOf(y, cur.model);
-    double rssBase = 0;
-    for (std::size_t i = 0; i < n; ++i) rssBase += r0[i] * r0[i];
-    const double sigma2 = nm.sigma * nm.sigma;
-    R.minDetectableRms = nm.sigma * std::sqrt((opt.bicThreshold + std::log(nm.nEff)) / nm.nEff);
+    double rssBase = 0, sigma2 = 0;
+    auto settleBaseline = [&] {
+        for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
+        nm = estimateNoise(r0, noiseSeg);
+        if (opt.knownNoiseSigma > 0) {  // instrument noise given: white, n_eff = n
+            nm.sigma = opt.knownNoiseSigma;
+            nm.rho = 0;
+            nm.arVar = 0;
+            nm.whiteVar = nm.sigma * nm.sigma;
+            nm.nEff = double(n);
+        }
+        useNoise(nm);
+        cur = F.fit(on, {cur.p});  // refit with the final noise model (and its covariance)
+        for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
+        R.noise = nm;
+        R.pNoiseBaseline = blockChiSquarePValue(r0, nm, F.nFree(on));
+        R.pBaseline = cur.p;
+        R.onBaseline = on;
+        R.yBaseline = cur.model;
+        R.rmseBaseline = rmsOf(y, cur.model);
+        rssBase = 0;
+        for (std::size_t i = 0; i < n; ++i) rssBase += r0[i] * r0[i];
+        sigma2 = nm.sigma * nm.sigma;
+        R.minDetectableRms = nm.sigma * std::sqrt((opt.bicThreshold + std::log(nm.nEff)) / nm.nEff);
+    };
+    settleBaseline();
 
     // ---- 3. locate: after the mechanisms are added (below), with the explained part ----
 
@@ -554,138 +559,141 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     std::vector<std::vector<int>> dropsOf(kNumComp);  // nuisances each accepted mechanism replaced
     bool ambiguous = false;
     for (int round = 1; round <= opt.maxMechanisms; ++round) {
-        double bicCur = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
-        // Jacobian of the current model for the identifiability projection
-        const auto fr = F.freeParams(on);
-        Eigen::MatrixXd J(n, fr.size());
-        {
-            std::vector<double> mp;
-            for (std::size_t a = 0; a < fr.size(); ++a) {
-                std::vector<double> q = cur.p;
-                const ParDef& d = M.defs()[fr[a]];
-                const double h = d.logScale ? q[fr[a]] * 1e-4 : d.scale * 1e-4;
-                q[fr[a]] += (q[fr[a]] + h <= d.hi) ? h : -h;
-                M.evaluate(q, on, mp);
-                for (std::size_t i = 0; i < n; ++i) J(long(i), long(a)) = (mp[i] - cur.model[i]) / (q[fr[a]] - cur.p[fr[a]]);
-            }
-        }
-        const auto qr = J.colPivHouseholderQr();
+        double bicCur = 0;
         std::vector<Candidate> roundC;
-        std::vector<int> todo;
-        for (int c : cands)
-            if (!on[c]) todo.push_back(c);
-        roundC.resize(todo.size());
-#pragma omp parallel for schedule(dynamic, 1)
-        for (long ti = 0; ti < long(todo.size()); ++ti) {
-            const int c = todo[std::size_t(ti)];
-            Candidate cd;
-            cd.comp = c;
-            cd.round = round;
-            std::vector<char> on2 = on;
-            on2[c] = 1;
-            auto starts = startsFor(M, c, cur.p);
-            if (c == kNonlinearity && on[kLoadingCurve]) {
-                cd.testable = false;
-                cd.note = "not tested: the baseline's free loading curve (loading_curve in MODEL.json) already shapes the skeleton curve";
-                roundC[std::size_t(ti)] = cd;
-                continue;
-            }
-            if (c == kCohesion && !reachesZeroForce) {
-                // without an unload to zero force the tension branch is unseen, and the loose-packing
-                // part alone is plastic compaction: it would pose as plasticity + stiffness curvature
-                cd.testable = false;
-                cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
-                roundC[std::size_t(ti)] = cd;
-                continue;
-            }
-            if (c == kWallFriction && R.bottom.says == "no_wall_loss") {
-                cd.testable = false;
-                cd.note = "ruled out by the bottom stress sensor: " + bottomSensorWords(R.bottom) + ", no stress lost to the walls";
-                roundC[std::size_t(ti)] = cd;
-                continue;
-            }
-            if (starts.empty()) {
-                cd.testable = false;
-                cd.note = std::string("not testable with an axial-stress recording: needs ") + missingSegment(c);
-                roundC[std::size_t(ti)] = cd;
-                continue;
-            }
-            // template of the primary parameter at a small "on" value
-            const std::vector<double>& ts = starts.size() > 1 ? starts[1] : starts[0];
-            std::vector<double> mOn;
-            M.evaluate(ts, on2, mOn);
-            Eigen::VectorXd T(n);
-            for (std::size_t i = 0; i < n; ++i) T[long(i)] = mOn[i] - cur.model[i];
-            const double tn = T.norm();
-            const int pp = primaryParam(c);
-            const double dTheta = std::abs(ts[pp] - (std::isnan(M.defs()[pp].off) ? cur.p[pp] : M.defs()[pp].off));
-            if (!(tn > 1e-9 * in.stressMax * std::sqrt(double(n)))) {
-                cd.testable = false;
-                cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
-                roundC[std::size_t(ti)] = cd;
-                continue;
-            }
-            const Eigen::VectorXd Tp = T - J * qr.solve(T);
-            cd.orthFraction = Tp.norm() / tn;
-            const int kc = int(M.paramsOf(c).size());
-            // linearised smallest detectable primary parameter: |theta * T⊥/dTheta|^2 n_eff/(n sigma^2) >= thr
-            if (Tp.norm() > 0)
-                cd.minDetectable = dTheta * nm.sigma * std::sqrt((opt.bicThreshold + kc * std::log(nm.nEff)) * double(n) / nm.nEff) / Tp.norm();
-            // one extra start, jittered with the seed (deterministic)
-            std::mt19937_64 local(opt.seed * 1000003ULL + std::uint64_t(c) * 7919ULL + std::uint64_t(round));
-            std::uniform_real_distribution<double> U(0.5, 2.0);
-            std::vector<double> js = ts;
-            js[pp] = (std::isnan(M.defs()[pp].off) ? js[pp] : M.defs()[pp].off) + (js[pp] - (std::isnan(M.defs()[pp].off) ? 0 : M.defs()[pp].off)) * U(local);
-            starts.push_back(js);
-            FitResult f = F.fit(on2, starts);
-            double bicBest = bic(f.rss, n, nLik, nm.nEff, F.nFree(on2));
-            // The nuisances were chosen on the baseline, before any mechanism: a sensor offset and
-            // drift can have taken up part of this mechanism's signature (e.g. the tension of
-            // cohesion). A candidate that fails the criterion with them is therefore also fitted
-            // without each selected nuisance, and the better BIC stands for it. A candidate that
-            // passes with the nuisances keeps them (dropping a real drift would bias its parameters).
-            // Only nuisances the selection chose (R.nuisances, not components MODEL.json switches
-            // on), one at a time, and never for the forced-addition control.
-            // wall_friction with a bottom sensor: the sensor channel is part of its likelihood. The
-            // baseline says the bottom carries the piston stress (no loss beyond kMinWallLoss); the
-            // term says it carries T of it, T fitted on the channel itself (one parameter: the
-            // surrogate's piston-stress muK cannot stand for Janssen's when a free loading curve
-            // takes up the loading loss). Its share of dBIC: chi2 - ln n_eff of the channel.
-            if (c == kWallFriction && R.bottom.present && R.bottom.transmission.nEff > 1)
-                cd.sensorDBIC = R.bottom.chi2 - std::log(R.bottom.transmission.nEff);
-            const bool passesWithNuisances = bicCur - bicBest + cd.sensorDBIC >= opt.bicThreshold;
-            if (!passesWithNuisances && !opt.forceBest) {
-                const std::vector<char> onWith = on2;
-                const FitResult fWith = f;
-                for (int u : R.nuisances) {
-                    std::vector<char> on3 = onWith;
-                    on3[u] = 0;
-                    FitResult g = F.fit(on3, {fWith.p});
-                    const double b3 = bic(g.rss, n, nLik, nm.nEff, F.nFree(on3));
-                    if (b3 < bicBest) {
-                        bicBest = b3;
-                        f = std::move(g);
-                        on2 = on3;
-                        cd.dropsNuisances = {u};
-                    }
+        for (int pass = 0;; ++pass) {
+            bicCur = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
+            // Jacobian of the current model for the identifiability projection
+            const auto fr = F.freeParams(on);
+            Eigen::MatrixXd J(n, fr.size());
+            {
+                std::vector<double> mp;
+                for (std::size_t a = 0; a < fr.size(); ++a) {
+                    std::vector<double> q = cur.p;
+                    const ParDef& d = M.defs()[fr[a]];
+                    const double h = d.logScale ? q[fr[a]] * 1e-4 : d.scale * 1e-4;
+                    q[fr[a]] += (q[fr[a]] + h <= d.hi) ? h : -h;
+                    M.evaluate(q, on, mp);
+                    for (std::size_t i = 0; i < n; ++i) J(long(i), long(a)) = (mp[i] - cur.model[i]) / (q[fr[a]] - cur.p[fr[a]]);
                 }
             }
-            cd.rss = f.rss;
-            cd.dBIC = bicCur - bicBest + cd.sensorDBIC;
-            cd.p = f.p;
-            cd.se = f.se;
-            if (cd.orthFraction < 0.05)
-                cd.note = "confounded: the baseline parameters imitate it in this protocol; needs " + std::string(missingSegment(c));
-            roundC[std::size_t(ti)] = cd;
-        }
-        (void)rng;
-        // Polish: every candidate model nests the current one (its terms off), so a candidate fit that
-        // beats the current model is also a start from which the current model may fit better -- the
-        // fit stopped short of its optimum (a sensor offset holding a tension plateau, say). The
-        // current model is refitted from every candidate's parameters with the candidate's terms off;
-        // the best refit, if better, replaces it, and every dBIC is taken against it (the candidates'
-        // own fits stand). In round 1 the reported baseline is the polished one.
-        {
+            const auto qr = J.colPivHouseholderQr();
+            roundC.clear();
+            std::vector<int> todo;
+            for (int c : cands)
+                if (!on[c]) todo.push_back(c);
+            roundC.resize(todo.size());
+#pragma omp parallel for schedule(dynamic, 1)
+            for (long ti = 0; ti < long(todo.size()); ++ti) {
+                const int c = todo[std::size_t(ti)];
+                Candidate cd;
+                cd.comp = c;
+                cd.round = round;
+                std::vector<char> on2 = on;
+                on2[c] = 1;
+                auto starts = startsFor(M, c, cur.p);
+                if (c == kNonlinearity && on[kLoadingCurve]) {
+                    cd.testable = false;
+                    cd.note = "not tested: the baseline's free loading curve (loading_curve in MODEL.json) already shapes the skeleton curve";
+                    roundC[std::size_t(ti)] = cd;
+                    continue;
+                }
+                if (c == kCohesion && !reachesZeroForce) {
+                    // without an unload to zero force the tension branch is unseen, and the loose-packing
+                    // part alone is plastic compaction: it would pose as plasticity + stiffness curvature
+                    cd.testable = false;
+                    cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
+                    roundC[std::size_t(ti)] = cd;
+                    continue;
+                }
+                if (c == kWallFriction && R.bottom.says == "no_wall_loss") {
+                    cd.testable = false;
+                    cd.note = "ruled out by the bottom stress sensor: " + bottomSensorWords(R.bottom) + ", no stress lost to the walls";
+                    roundC[std::size_t(ti)] = cd;
+                    continue;
+                }
+                if (starts.empty()) {
+                    cd.testable = false;
+                    cd.note = std::string("not testable with an axial-stress recording: needs ") + missingSegment(c);
+                    roundC[std::size_t(ti)] = cd;
+                    continue;
+                }
+                // template of the primary parameter at a small "on" value
+                const std::vector<double>& ts = starts.size() > 1 ? starts[1] : starts[0];
+                std::vector<double> mOn;
+                M.evaluate(ts, on2, mOn);
+                Eigen::VectorXd T(n);
+                for (std::size_t i = 0; i < n; ++i) T[long(i)] = mOn[i] - cur.model[i];
+                const double tn = T.norm();
+                const int pp = primaryParam(c);
+                const double dTheta = std::abs(ts[pp] - (std::isnan(M.defs()[pp].off) ? cur.p[pp] : M.defs()[pp].off));
+                if (!(tn > 1e-9 * in.stressMax * std::sqrt(double(n)))) {
+                    cd.testable = false;
+                    cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
+                    roundC[std::size_t(ti)] = cd;
+                    continue;
+                }
+                const Eigen::VectorXd Tp = T - J * qr.solve(T);
+                cd.orthFraction = Tp.norm() / tn;
+                const int kc = int(M.paramsOf(c).size());
+                // linearised smallest detectable primary parameter: |theta * T⊥/dTheta|^2 n_eff/(n sigma^2) >= thr
+                if (Tp.norm() > 0)
+                    cd.minDetectable = dTheta * nm.sigma * std::sqrt((opt.bicThreshold + kc * std::log(nm.nEff)) * double(n) / nm.nEff) / Tp.norm();
+                // one extra start, jittered with the seed (deterministic)
+                std::mt19937_64 local(opt.seed * 1000003ULL + std::uint64_t(c) * 7919ULL + std::uint64_t(round));
+                std::uniform_real_distribution<double> U(0.5, 2.0);
+                std::vector<double> js = ts;
+                js[pp] = (std::isnan(M.defs()[pp].off) ? js[pp] : M.defs()[pp].off) + (js[pp] - (std::isnan(M.defs()[pp].off) ? 0 : M.defs()[pp].off)) * U(local);
+                starts.push_back(js);
+                FitResult f = F.fit(on2, starts);
+                double bicBest = bic(f.rss, n, nLik, nm.nEff, F.nFree(on2));
+                // The nuisances were chosen on the baseline, before any mechanism: a sensor offset and
+                // drift can have taken up part of this mechanism's signature (e.g. the tension of
+                // cohesion). A candidate that fails the criterion with them is therefore also fitted
+                // without each selected nuisance, and the better BIC stands for it. A candidate that
+                // passes with the nuisances keeps them (dropping a real drift would bias its parameters).
+                // Only nuisances the selection chose (R.nuisances, not components MODEL.json switches
+                // on), one at a time, and never for the forced-addition control.
+                // wall_friction with a bottom sensor: the sensor channel is part of its likelihood. The
+                // baseline says the bottom carries the piston stress (no loss beyond kMinWallLoss); the
+                // term says it carries T of it, T fitted on the channel itself (one parameter: the
+                // surrogate's piston-stress muK cannot stand for Janssen's when a free loading curve
+                // takes up the loading loss). Its share of dBIC: chi2 - ln n_eff of the channel.
+                if (c == kWallFriction && R.bottom.present && R.bottom.transmission.nEff > 1)
+                    cd.sensorDBIC = R.bottom.chi2 - std::log(R.bottom.transmission.nEff);
+                const bool passesWithNuisances = bicCur - bicBest + cd.sensorDBIC >= opt.bicThreshold;
+                if (!passesWithNuisances && !opt.forceBest) {
+                    const std::vector<char> onWith = on2;
+                    const FitResult fWith = f;
+                    for (int u : R.nuisances) {
+                        std::vector<char> on3 = onWith;
+                        on3[u] = 0;
+                        FitResult g = F.fit(on3, {fWith.p});
+                        const double b3 = bic(g.rss, n, nLik, nm.nEff, F.nFree(on3));
+                        if (b3 < bicBest) {
+                            bicBest = b3;
+                            f = std::move(g);
+                            on2 = on3;
+                            cd.dropsNuisances = {u};
+                        }
+                    }
+                }
+                cd.rss = f.rss;
+                cd.dBIC = bicCur - bicBest + cd.sensorDBIC;
+                cd.p = f.p;
+                cd.se = f.se;
+                if (cd.orthFraction < 0.05)
+                    cd.note = "confounded: the baseline parameters imitate it in this protocol; needs " + std::string(missingSegment(c));
+                roundC[std::size_t(ti)] = cd;
+            }
+            (void)rng;
+            // Polish: every candidate model nests the current one (its terms off), so a candidate fit that
+            // beats the current model is also a start from which the current model may fit better -- the
+            // fit stopped short of its optimum (a sensor offset holding a tension plateau, say). The
+            // current model is refitted from every such candidate's parameters with the candidate's terms
+            // off; if the best refit is better it replaces the current model and the round is scored
+            // again from it (every candidate refitted from the new current model; in round 1 the noise
+            // model and the reported baseline are redone first). At most two polishes per round.
             FitResult best;
             bool better = false;
             for (const Candidate& cd : roundC) {
@@ -699,22 +707,10 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     better = true;
                 }
             }
-            if (better) {
-                const double bicNew = bic(best.rss, n, nLik, nm.nEff, F.nFree(on));
-                for (Candidate& cd : roundC)
-                    if (cd.testable) cd.dBIC -= bicCur - bicNew;
-                bicCur = bicNew;
-                cur = std::move(best);
-                if (round == 1) {
-                    for (std::size_t i = 0; i < n; ++i) r0[i] = y[i] - cur.model[i];
-                    R.pNoiseBaseline = blockChiSquarePValue(r0, nm, F.nFree(on));
-                    R.pBaseline = cur.p;
-                    R.yBaseline = cur.model;
-                    R.rmseBaseline = rmsOf(y, cur.model);
-                    rssBase = 0;
-                    for (std::size_t i = 0; i < n; ++i) rssBase += r0[i] * r0[i];
-                }
-            }
+            if (!better || pass == 2) break;
+            cur = std::move(best);
+            if (round == 1) settleBaseline();
+            ++R.polishes;
         }
         // rank
         std::vector<std::size_t> order;
@@ -1312,6 +1308,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         fit.set("heldout_excess_rmse_augmented", ea);
         fit.set("heldout_excess_definition", "sqrt(max(0, heldout_rmse^2 - sigma_noise^2)): the held-out error above the estimated noise level");
     }
+    fit.set("polishes", R.polishes);
     fit.set("heldout_scheme", "blocked cross-validation, " + std::to_string(opt.folds) + " folds; every protocol phase cut into " + std::to_string(opt.folds) + " contiguous parts, one per fold (rotated between phases)");
     fit.set("explained_fraction_of_excess", R.explainedFraction);
     Json bp = Json::object();

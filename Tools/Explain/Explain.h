@@ -113,6 +113,8 @@ struct ExplainResult {
     std::vector<int> nuisances;         ///< nuisances of the final model
     std::vector<int> nuisancesDropped;  ///< selected on the baseline, dropped with an added mechanism
     std::vector<Candidate> candidates;
+    /// times a selection round refitted the current model from a candidate's fit (the polish, step 5)
+    int polishes = 0;
     std::vector<Window> windows;
     std::string ambiguousWith;  ///< second mechanism when verdict == ambiguous
     std::string separatingExperiment;

@@ -69,7 +69,7 @@ Model::Model(const ModelInput& in) : in_(in) {
     const double tauScale = rmax > 0 ? 0.02 / rmax : 1.0;  // gives 2 % of E*range at the top rate
     defs_ = {
         {"E", "Pa", kBaseline, E0 * 1e-3, E0 * 1e3, kNaN, 0, true},
-        {"eps0", "-", kBaseline, in.contactAtStart ? in.epsMin : in.epsMin - in.epsRange, in.epsMin + 0.95 * in.epsRange, kNaN, 0.05 * in.epsRange, false},
+        {"eps0", "-", kBaseline, in.contactAtStart ? std::min(in.eps.front(), in.epsMin + 0.95 * in.epsRange) : in.epsMin - in.epsRange, in.epsMin + 0.95 * in.epsRange, kNaN, 0.05 * in.epsRange, false},
         {"compliance_ratio", "-", kCompliance, 0, 0.3, 0, 0.05, false},
         {"offset", "Pa", kDrift, -in.stressMax, in.stressMax, 0, 0.01 * in.stressMax, false},
         {"drift_rate", "Pa/s", kDrift, -in.stressMax / in.duration, in.stressMax / in.duration, 0,
@@ -235,7 +235,7 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
                 sel = lam * x - (lam - 1) * sAtMax - dLoose;
             }
             sel = std::max(sel, emax > e0 ? floorS : 0.0);
-            if (hy && e < emax) sel = hyst.branch(e, sel, sAtMax - dLoose);
+            if (hy && e < emax && emax > e0) sel = std::max(hyst.branch(e, sel, sAtMax - dLoose), floorS);
             if (C > 0) {
                 if (in_.hold[i]) {
                     if (!inHold) {
@@ -291,18 +291,30 @@ double Model::Loop::branch(double e, double L, double top) {
         ext = e;
         extL = L;
     }
-    if (up ? e > ext : e < ext) {
+    if (up ? e >= ext : e <= ext) {  // on along the current branch
         ext = e;
         extL = L;
-    } else if (std::abs(e - ext) > turn) {  // a reversal at the extreme reached
-        const double sExt = value(extL);
-        up = !up;
-        aL = extL;
-        aS = sExt;
-        ext = e;
-        extL = L;
+        return value(L);
     }
-    return value(L);
+    // turned back from the extreme: the new branch, anchored where the old one was at the extreme
+    // (continuous there); committed once the turn exceeds `turn`, so that strain noise in a hold does
+    // not re-anchor the loop at every sample
+    const double sExt = value(extL);
+    const bool wasUp = up;
+    const double oldL = aL, oldS = aS;
+    up = !up;
+    aL = extL;
+    aS = sExt;
+    const double s = value(L);
+    if (std::abs(e - ext) > turn) {
+        ext = e;
+        extL = L;
+    } else {
+        up = wasUp;
+        aL = oldL;
+        aS = oldS;
+    }
+    return s;
 }
 
 // ---- fitting --------------------------------------------------------------------------------
