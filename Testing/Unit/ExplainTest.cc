@@ -298,44 +298,59 @@ TEST(ExplainModel, HysteresisOffIsTheBranchAndOnOpensALoop) {
 
 // Reversals inside the loop (a partial unload, a partial reload, and again) and unloads into tension:
 // the stress follows the strain monotonically within every branch and is continuous at every
-// reversal (no jump when the turn is detected), and never goes below the cohesion floor.
+// reversal (no jump when the turn is detected), never goes below the cohesion floor, and is zero
+// before the first contact. Three paths: turns near the top (plasticity ratio 10), turns in tension
+// (ratio 2: L = 0 at strain 0.0524 with the loose-packing deficit; a reload from the floor turned back
+// at L < 0 above the floor, and one turned back at L > 0 while the stress is still < 0), and strain
+// wiggles before contact.
 TEST(ExplainModel, HysteresisReversalsAreContinuousAndKeepTheCohesionFloor) {
-    Recording rec;
-    Protocol proto;
-    proto.height = 0.02;
-    // 0 -> 0.1, down to 0.085, up to 0.095, down to 0.02 (tension), up to 0.05, down to 0.0, up to 0.12
-    const std::vector<double> turns = {0.0, 0.1, 0.085, 0.095, 0.02, 0.05, 0.0, 0.12};
-    double t = 0;
-    for (std::size_t k = 0; k + 1 < turns.size(); ++k) {
-        const int steps = int(std::lround(std::abs(turns[k + 1] - turns[k]) / 2e-5));
-        for (int i = (k == 0 ? 0 : 1); i <= steps; ++i) {
-            rec.t.push_back(t++);
-            rec.strain.push_back(turns[k] + (turns[k + 1] - turns[k]) * i / steps);
-            rec.stress.push_back(0);
+    struct Path {
+        std::vector<double> turns;
+        double lambda, eps0;
+    };
+    const std::vector<Path> paths = {{{0.0, 0.1, 0.085, 0.095, 0.02, 0.05, 0.0, 0.12}, 10, 0},
+                                     {{0.0, 0.1, 0.046, 0.051, 0.03, 0.0535, 0.0, 0.12}, 2, 0},
+                                     {{0.0, 0.006, 0.003, 0.008, 0.002, 0.1, 0.04, 0.12}, 2, 0.01}};
+    for (const Path& path : paths) {
+        Recording rec;
+        Protocol proto;
+        proto.height = 0.02;
+        double t = 0;
+        for (std::size_t k = 0; k + 1 < path.turns.size(); ++k) {
+            const int steps = int(std::lround(std::abs(path.turns[k + 1] - path.turns[k]) / 2e-5));
+            for (int i = (k == 0 ? 0 : 1); i <= steps; ++i) {
+                rec.t.push_back(t++);
+                rec.strain.push_back(path.turns[k] + (path.turns[k + 1] - path.turns[k]) * i / steps);
+                rec.stress.push_back(0);
+            }
         }
+        const Model M(makeModelInput(rec, proto));
+        std::vector<double> p = M.defaults();
+        const double E = 1e6, top = E * 0.1, tension = 0.05 * top;
+        p[pE] = E;
+        p[pEps0] = path.eps0;
+        p[pLambda] = path.lambda;
+        p[pTension] = tension;
+        p[pUnloadExp] = 2;
+        p[pReloadExp] = 2;
+        std::vector<char> on(kNumComp, 0);
+        on[kPlasticity] = on[kCohesion] = on[kHysteresis] = 1;
+        std::vector<double> s;
+        M.evaluate(p, on, s);
+        double minS = 0, worstAgainst = 0, beforeContact = 0;
+        bool contact = false;
+        for (std::size_t i = 1; i < s.size(); ++i) {
+            minS = std::min(minS, s[i]);
+            const double de = rec.strain[i] - rec.strain[i - 1], ds = s[i] - s[i - 1];
+            if (de != 0) worstAgainst = std::max(worstAgainst, -ds * (de > 0 ? 1 : -1));  // stress moving against the strain
+            contact = contact || rec.strain[i] > path.eps0;
+            if (!contact) beforeContact = std::max(beforeContact, std::abs(s[i]));
+        }
+        EXPECT_LE(worstAgainst, 1e-9 * top) << "path " << &path - paths.data() << ": stress moves against the strain";
+        EXPECT_GE(minS, -tension * (1 + 1e-12)) << "path " << &path - paths.data() << ": below the cohesion floor";
+        EXPECT_LT(minS, -0.5 * tension) << "path " << &path - paths.data() << ": the unload into tension reaches the floor region";
+        EXPECT_EQ(beforeContact, 0.0) << "path " << &path - paths.data() << ": stress before the first contact";
     }
-    const Model M(makeModelInput(rec, proto));
-    std::vector<double> p = M.defaults();
-    const double E = 1e6, top = E * 0.1, tension = 0.05 * top;
-    p[pE] = E;
-    p[pEps0] = 0;
-    p[pLambda] = 10;
-    p[pTension] = tension;
-    p[pUnloadExp] = 2;
-    p[pReloadExp] = 2;
-    std::vector<char> on(kNumComp, 0);
-    on[kPlasticity] = on[kCohesion] = on[kHysteresis] = 1;
-    std::vector<double> s;
-    M.evaluate(p, on, s);
-    double minS = 0, worstAgainst = 0;
-    for (std::size_t i = 1; i < s.size(); ++i) {
-        minS = std::min(minS, s[i]);
-        const double de = rec.strain[i] - rec.strain[i - 1], ds = s[i] - s[i - 1];
-        if (de != 0) worstAgainst = std::max(worstAgainst, -ds * (de > 0 ? 1 : -1));  // stress moving against the strain
-    }
-    EXPECT_LE(worstAgainst, 1e-9 * top) << "a jump against the strain at a reversal";
-    EXPECT_GE(minS, -tension * (1 + 1e-12)) << "below the cohesion floor";
-    EXPECT_LT(minS, -0.5 * tension) << "the unload into tension reaches the floor region";
 }
 
 // device.zero_before_contact: read and written by the recording library, and in the explainer's model

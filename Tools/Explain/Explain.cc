@@ -694,6 +694,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // off; if the best refit is better it replaces the current model and the round is scored
             // again from it (every candidate refitted from the new current model; in round 1 the noise
             // model and the reported baseline are redone first). At most two polishes per round.
+            if (pass == 2) break;
             FitResult best;
             bool better = false;
             for (const Candidate& cd : roundC) {
@@ -707,7 +708,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     better = true;
                 }
             }
-            if (!better || pass == 2) break;
+            if (!better) break;
             cur = std::move(best);
             if (round == 1) settleBaseline();
             ++R.polishes;

@@ -157,7 +157,7 @@ std::vector<double> Model::defaults() const {
     std::vector<double> p(defs_.size());
     for (std::size_t k = 0; k < defs_.size(); ++k) p[k] = std::isnan(defs_[k].off) ? 0 : defs_[k].off;
     p[pE] = in_.stressMax / in_.epsRange;
-    p[pEps0] = in_.epsMin;
+    p[pEps0] = std::max(in_.epsMin, defs_[pEps0].lo);
     p[pRelaxT0] = 1.0;
     return p;
 }
@@ -235,7 +235,7 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
                 sel = lam * x - (lam - 1) * sAtMax - dLoose;
             }
             sel = std::max(sel, emax > e0 ? floorS : 0.0);
-            if (hy && e < emax && emax > e0) sel = std::max(hyst.branch(e, sel, sAtMax - dLoose), floorS);
+            if (hy && e < emax && emax > e0) sel = hyst.branch(e, sel, sAtMax - dLoose, floorS);
             if (C > 0) {
                 if (in_.hold[i]) {
                     if (!inHold) {
@@ -278,11 +278,19 @@ void Model::evaluate(const std::vector<double>& p, const std::vector<char>& on, 
 
 // ---- hysteresis: the unload-reload loop below the largest strain --------------------------------
 
-double Model::Loop::branch(double e, double L, double top) {
+double Model::Loop::branch(double e, double L, double top, double floor) {
+    // an unload from a reversal above zero force in both L and stress scales with (L/L_a)^h_u down
+    // to zero force and follows L below; from any other reversal it runs parallel to L (monotone in
+    // L either way); every value floored at the cohesion tension, the reversal points included
     auto value = [&](double Lq) {
-        if (!up) return (Lq > 0 && aL > 0) ? aS * std::pow(Lq / aL, hu) : Lq + (aL < 0 ? aS - aL : 0.0);
-        const double v = top > aL ? std::clamp((Lq - aL) / (top - aL), 0.0, 1.0) : 1.0;
-        return aS + (top - aS) * std::pow(v, hr);
+        double s;
+        if (!up) {
+            s = (aL > 0 && aS > 0) ? (Lq > 0 ? aS * std::pow(Lq / aL, hu) : Lq) : Lq + aS - aL;
+        } else {
+            const double v = top > aL ? std::clamp((Lq - aL) / (top - aL), 0.0, 1.0) : 1.0;
+            s = aS + (top - aS) * std::pow(v, hr);
+        }
+        return std::max(s, floor);
     };
     if (virgin) {  // the first sample below the largest strain: an unload from the top
         virgin = false;

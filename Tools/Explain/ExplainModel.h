@@ -129,8 +129,9 @@ private:
         double hu = 1, hr = 1, turn = 0;      ///< exponents; strain turn that counts as a reversal
         bool virgin = true, up = false;       ///< on the virgin curve; reloading (else unloading)
         double aL = 0, aS = 0, ext = 0, extL = 0;  ///< reversal point (branch value, stress); extreme strain and its L
-        /// Stress at strain e whose loop-free branch value is L; top: the branch value at the largest strain.
-        double branch(double e, double L, double top);
+        /// Stress at strain e whose loop-free branch value is L; top: the branch value at the largest
+        /// strain; floor: the cohesion tension (negative) or 0.
+        double branch(double e, double L, double top, double floor);
     };
     double curveFactor(const std::vector<double>& p, double e) const;  ///< 1 + c(e) of loading_curve
     ModelInput in_;
