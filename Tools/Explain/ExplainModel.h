@@ -34,7 +34,7 @@
 //                   (L_a, s_a) follows s = s_a (L/L_a)^h_u while L > 0 (s = L below), a reload
 //                   s = s_a + (s_top - s_a) v^h_r, v = (L - L_a)/(s_top - L_a), back to the top of the
 //                   branch at the largest strain (off: h_u = h_r = 1, i.e. s = L). An unload from a
-//                   reversal in tension (L_a < 0) runs parallel to L; the result is floored at the
+//                   reversal in tension (L_a < 0 or s_a < 0) runs parallel to L; the result is floored at the
 //                   cohesion tension, and the term acts only after first contact. A reversal is
 //                   committed after a strain turn of more than 0.5 % of the strain range (inside that
 //                   band the new branch is already followed: continuous at every turn)
