@@ -389,6 +389,62 @@ TEST(ExplainInput, ZeroBeforeContactBoundsTheContactStrain) {
     }
 }
 
+// A lift-off test recorded from rest (device.zero_before_contact): the piston rests on the unloaded
+// bed (the load cell reads its offset), loads, holds, unloads into tension and holds the pull. The
+// cohesion is found (the loose packing and the tension: everything after contact) and the rest is not
+// located as mismatch: the rest before contact reads the offset
+// whatever acts after contact, so the baseline the windows are measured against keeps the augmented
+// model's offset (free, it moved the offset towards the tension and the rest was flagged as mismatch).
+TEST(ExplainLocate, RestBeforeContactIsNotTakenForTheTension) {
+    Protocol proto;
+    proto.height = 0.02;
+    proto.zeroBeforeContact = true;
+    Recording rec;
+    struct Seg { double dur, e1; };  // rest, load, hold, unload (lift-off), hold the pull
+    const std::vector<Seg> segs = {{20, 0.002}, {60, 0.05}, {60, 0.05}, {20, 0.036}, {60, 0.036}};
+    double t = 0, e0 = 0.002;
+    for (const Seg& s : segs) {
+        const double tStart = t;
+        for (; t < tStart + s.dur - 1e-9; t += 0.25) {
+            rec.t.push_back(t);
+            rec.strain.push_back(e0 + (s.e1 - e0) * (t - tStart) / s.dur);
+        }
+        e0 = s.e1;
+    }
+    rec.stress.assign(rec.t.size(), 0.0);
+    const Model M(makeModelInput(rec, proto));
+    std::vector<double> p = M.defaults();
+    p[pE] = 1e6;
+    p[pEps0] = 0.002;
+    p[pLambda] = 4;  // unload branch at zero force near strain 0.0385, at the floor below 0.038
+    p[pTension] = 2e3;
+    p[pOffset] = 150;
+    std::vector<char> on(kNumComp, 0);
+    on[kPlasticity] = on[kCohesion] = on[kDrift] = on[kLoadingCurve] = 1;  // curve knots 0: linear, no loose packing
+    M.evaluate(p, on, rec.stress);
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> N01;
+    const double sigma = 2e3 / 6;  // the tension hold at peak SNR 6, white noise
+    for (double& s : rec.stress) s += sigma * N01(rng);
+    ExplainOptions opt;
+    opt.figures = false;
+    opt.baselineComps = {kPlasticity, kLoadingCurve};
+    const ExplainResult r = pdpm::explain::explain(rec, proto, opt);
+    ASSERT_EQ(r.verdict, "missing_physics") << r.summary;
+    ASSERT_FALSE(r.mechanisms.empty());
+    EXPECT_EQ(r.mechanisms.front().comp, kCohesion);
+    double restShare = 0, pullShare = 0;
+    std::ostringstream ws;
+    for (const auto& w : r.windows) {
+        ws << w.phase << " " << w.tStart << "-" << w.tEnd << (w.mismatch ? " mismatch " : " ") << w.share << "; ";
+        if (!w.mismatch) continue;
+        if (w.tStart < 20) restShare += w.share;
+        if (w.tStart >= 160) pullShare += w.share;
+    }
+    EXPECT_EQ(restShare, 0.0) << "the rest before contact is located as mismatch: " << ws.str();
+    EXPECT_GT(pullShare, 0.1) << "the pull's hold carries the tension: " << ws.str();
+}
+
 TEST(ExplainModel, LoadingCurveIsAFunctionOfStrainAloneAndOffIsIdentity) {
     const Recording rec = curvedBedRecording(0, 1, 1, 3);
     Protocol proto;

@@ -22,7 +22,8 @@
 // -ln(T)/(4 H/D) from its bottom/piston transmission T on first loading (the quantity the surrogate's
 // muK stands for; mu_w itself is stored too). With bottomSensor the record shown also carries the
 // bottom stress with its own offset, AR(1) noise of the same sd and quantisation. MODEL.json:
-// stiffness_nonlinearity and a free loading curve (the elastic bed's own first loading).
+// stiffness_nonlinearity, plasticity (the frictional bed unloads stiffer than it loads, elastic
+// contacts notwithstanding) and a free loading curve (the bed's own first loading).
 //
 // Creep (family creep): the relaxation family's protocol shape and parameter ranges (its own seeds) with every hold a creep step at
 // constant stress (creep:T, the piston keeping the stress reached), so contact relaxation shows as

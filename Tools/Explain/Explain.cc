@@ -41,6 +41,19 @@ std::vector<int> freeParamsFor(const Model& m, const std::vector<char>& on, int 
 
 namespace {
 
+/// Fewest samples of rest before first contact that pin the sensor offset (device.zero_before_contact).
+constexpr std::size_t kRestSamplesPinningOffset = 20;
+
+/// Samples at the start of the record before first contact (strain at or below eps0) where the protocol says
+/// the bed is unloaded when the record begins (device.zero_before_contact); 0 otherwise.
+std::size_t samplesBeforeContact(const Model& m, const std::vector<double>& p) {
+    const ModelInput& in = m.input();
+    if (!in.contactAtStart) return 0;
+    std::size_t k = 0;
+    while (k < in.eps.size() && in.eps[k] <= p[pEps0]) ++k;
+    return k;
+}
+
 /// A small "on" value of each component's parameters, for templates and start points.
 std::vector<std::vector<double>> startsFor(const Model& m, int c, const std::vector<double>& p) {
     std::vector<std::vector<double>> out;
@@ -980,7 +993,14 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                 const Fitter Fs{M, fm.model, F.inflation, F.whitener, F.alwaysFixed};
                 auto stB = stB0;
                 stB.push_back(fb0.p);
-                const FitResult fb = Fs.fit(onB, stB);
+                // device.zero_before_contact with a rest before first contact: those samples read the
+                // sensor offset alone, whatever acts after contact, so the refitted baseline keeps the
+                // augmented model's offset. Free, it moves the offset to take a level the mechanism
+                // holds (a cohesion tension), and the rest is then located as mismatch.
+                const int heldOffset = samplesBeforeContact(M, fm.p) >= kRestSamplesPinningOffset ? pOffset : -1;
+                if (heldOffset >= 0)
+                    for (auto& s : stB) s[pOffset] = fm.p[pOffset];
+                const FitResult fb = Fs.fit(onB, stB, {}, heldOffset);
                 if (fb.model.size() == n) {
                     explained.resize(n);
                     for (std::size_t i = 0; i < n; ++i) {
