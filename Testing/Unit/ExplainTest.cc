@@ -790,6 +790,10 @@ TEST(ExplainCommand, EndToEndIsDeterministicAndScored) {
         EXPECT_TRUE(rep.has(key)) << key;
     EXPECT_EQ(rep.at("dem_confirmation").at("status").asString(), "not_run");
     EXPECT_TRUE(rep.at("fit").has("heldout_excess_rmse_baseline"));
+    // the polish count and the rounds that stopped at its limit: at most two polishes per round
+    const double polishes = rep.at("fit").at("polishes").asNumber(), capped = rep.at("fit").at("polish_limit_reached_rounds").asNumber();
+    EXPECT_GE(capped, 0.0);
+    EXPECT_GE(polishes, 2 * capped) << "a round at the limit has polished twice";
     const CaseScore s = scoreCase(rep, readJsonFile(d + "/truth.json"));
     EXPECT_GT(s.iou, 0.0) << "the reported windows overlap the true affected phases";
     EXPECT_TRUE(s.positive);

@@ -425,6 +425,153 @@ std::string bottomSensorWords(const BottomSensor& b) {
     return "the bottom plate carries " + num(b.transmission.slope, 3) + " +- " + num(3 * b.transmission.se, 2) +
            " (3 se) of the piston stress on first loading (its ramps and the holds after them)";
 }
+
+/// What a selection round screens every candidate against: the current model, its Jacobian in the free
+/// parameters (for the identifiability projection) and the round's settings.
+struct RoundState {
+    const Model& M;
+    const Fitter& F;
+    const ExplainOptions& opt;
+    const NoiseModel& nm;
+    const BottomSensor& bottom;
+    const std::vector<int>& nuisances;  ///< the nuisances the selection chose
+    const std::vector<char>& on;
+    const FitResult& cur;
+    const Eigen::MatrixXd& J;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr;
+    double bicCur, nLik;
+    int round;
+    bool reachesZeroForce;  ///< the record unloads to zero force (cohesion's tension branch is seen)
+};
+
+/// Jacobian of the current model in its free parameters (forward differences, backward at an upper bound).
+Eigen::MatrixXd currentJacobian(const Model& M, const Fitter& F, const std::vector<char>& on, const FitResult& cur) {
+    const std::size_t n = cur.model.size();
+    const auto fr = F.freeParams(on);
+    Eigen::MatrixXd J(n, fr.size());
+    std::vector<double> mp;
+    for (std::size_t a = 0; a < fr.size(); ++a) {
+        std::vector<double> q = cur.p;
+        const ParDef& d = M.defs()[fr[a]];
+        const double h = d.logScale ? q[fr[a]] * 1e-4 : d.scale * 1e-4;
+        q[fr[a]] += (q[fr[a]] + h <= d.hi) ? h : -h;
+        M.evaluate(q, on, mp);
+        for (std::size_t i = 0; i < n; ++i) J(long(i), long(a)) = (mp[i] - cur.model[i]) / (q[fr[a]] - cur.p[fr[a]]);
+    }
+    return J;
+}
+
+/// One candidate of a selection round: whether the record can show it, its template and the part of it
+/// the current model's parameters cannot imitate, its fit (also without each selected nuisance when it
+/// fails with them) and its dBIC against the current model.
+Candidate screenCandidate(const RoundState& s, int c) {
+    const Model& M = s.M;
+    const Fitter& F = s.F;
+    const ExplainOptions& opt = s.opt;
+    const NoiseModel& nm = s.nm;
+    const std::vector<char>& on = s.on;
+    const FitResult& cur = s.cur;
+    const Eigen::MatrixXd& J = s.J;
+    const auto& qr = s.qr;
+    const double bicCur = s.bicCur, nLik = s.nLik;
+    const int round = s.round;
+    const std::size_t n = cur.model.size();
+    const ModelInput& in = M.input();
+    Candidate cd;
+    cd.comp = c;
+    cd.round = round;
+    std::vector<char> on2 = on;
+    on2[c] = 1;
+    auto starts = startsFor(M, c, cur.p);
+    if (c == kNonlinearity && on[kLoadingCurve]) {
+        cd.testable = false;
+        cd.note = "not tested: the baseline's free loading curve (loading_curve in MODEL.json) already shapes the skeleton curve";
+        return cd;
+    }
+    if (c == kCohesion && !s.reachesZeroForce) {
+        // without an unload to zero force the tension branch is unseen, and the loose-packing
+        // part alone is plastic compaction: it would pose as plasticity + stiffness curvature
+        cd.testable = false;
+        cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
+        return cd;
+    }
+    if (c == kWallFriction && s.bottom.says == "no_wall_loss") {
+        cd.testable = false;
+        cd.note = "ruled out by the bottom stress sensor: " + bottomSensorWords(s.bottom) + ", no stress lost to the walls";
+        return cd;
+    }
+    if (starts.empty()) {
+        cd.testable = false;
+        cd.note = std::string("not testable with an axial-stress recording: needs ") + missingSegment(c);
+        return cd;
+    }
+    // template of the primary parameter at a small "on" value
+    const std::vector<double>& ts = starts.size() > 1 ? starts[1] : starts[0];
+    std::vector<double> mOn;
+    M.evaluate(ts, on2, mOn);
+    Eigen::VectorXd T(n);
+    for (std::size_t i = 0; i < n; ++i) T[long(i)] = mOn[i] - cur.model[i];
+    const double tn = T.norm();
+    const int pp = primaryParam(c);
+    const double dTheta = std::abs(ts[pp] - (std::isnan(M.defs()[pp].off) ? cur.p[pp] : M.defs()[pp].off));
+    if (!(tn > 1e-9 * in.stressMax * std::sqrt(double(n)))) {
+        cd.testable = false;
+        cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
+        return cd;
+    }
+    const Eigen::VectorXd Tp = T - J * qr.solve(T);
+    cd.orthFraction = Tp.norm() / tn;
+    const int kc = int(M.paramsOf(c).size());
+    // linearised smallest detectable primary parameter: |theta * T⊥/dTheta|^2 n_eff/(n sigma^2) >= thr
+    if (Tp.norm() > 0)
+        cd.minDetectable = dTheta * nm.sigma * std::sqrt((opt.bicThreshold + kc * std::log(nm.nEff)) * double(n) / nm.nEff) / Tp.norm();
+    // one extra start, jittered with the seed (deterministic)
+    std::mt19937_64 local(opt.seed * 1000003ULL + std::uint64_t(c) * 7919ULL + std::uint64_t(round));
+    std::uniform_real_distribution<double> U(0.5, 2.0);
+    std::vector<double> js = ts;
+    js[pp] = (std::isnan(M.defs()[pp].off) ? js[pp] : M.defs()[pp].off) + (js[pp] - (std::isnan(M.defs()[pp].off) ? 0 : M.defs()[pp].off)) * U(local);
+    starts.push_back(js);
+    FitResult f = F.fit(on2, starts);
+    double bicBest = bic(f.rss, n, nLik, nm.nEff, F.nFree(on2));
+    // The nuisances were chosen on the baseline, before any mechanism: a sensor offset and
+    // drift can have taken up part of this mechanism's signature (e.g. the tension of
+    // cohesion). A candidate that fails the criterion with them is therefore also fitted
+    // without each selected nuisance, and the better BIC stands for it. A candidate that
+    // passes with the nuisances keeps them (dropping a real drift would bias its parameters).
+    // Only nuisances the selection chose (s.nuisances, not components MODEL.json switches
+    // on), one at a time, and never for the forced-addition control.
+    // wall_friction with a bottom sensor: the sensor channel is part of its likelihood. The
+    // baseline says the bottom carries the piston stress (no loss beyond kMinWallLoss); the
+    // term says it carries T of it, T fitted on the channel itself (one parameter: the
+    // surrogate's piston-stress muK cannot stand for Janssen's when a free loading curve
+    // takes up the loading loss). Its share of dBIC: chi2 - ln n_eff of the channel.
+    if (c == kWallFriction && s.bottom.present && s.bottom.transmission.nEff > 1)
+        cd.sensorDBIC = s.bottom.chi2 - std::log(s.bottom.transmission.nEff);
+    const bool passesWithNuisances = bicCur - bicBest + cd.sensorDBIC >= opt.bicThreshold;
+    if (!passesWithNuisances && !opt.forceBest) {
+        const std::vector<char> onWith = on2;
+        const FitResult fWith = f;
+        for (int u : s.nuisances) {
+            std::vector<char> on3 = onWith;
+            on3[u] = 0;
+            FitResult g = F.fit(on3, {fWith.p});
+            const double b3 = bic(g.rss, n, nLik, nm.nEff, F.nFree(on3));
+            if (b3 < bicBest) {
+                bicBest = b3;
+                f = std::move(g);
+                on2 = on3;
+                cd.dropsNuisances = {u};
+            }
+        }
+    }
+    cd.rss = f.rss;
+    cd.dBIC = bicCur - bicBest + cd.sensorDBIC;
+    cd.p = f.p;
+    cd.se = f.se;
+    if (cd.orthFraction < 0.05)
+        cd.note = "confounded: the baseline parameters imitate it in this protocol; needs " + std::string(missingSegment(c));
+    return cd;
+}
 } // namespace
 
 ExplainResult explain(const Recording& rec, const Protocol& proto, const ExplainOptions& opt) {
@@ -577,128 +724,16 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (int pass = 0;; ++pass) {
             bicCur = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
             // Jacobian of the current model for the identifiability projection
-            const auto fr = F.freeParams(on);
-            Eigen::MatrixXd J(n, fr.size());
-            {
-                std::vector<double> mp;
-                for (std::size_t a = 0; a < fr.size(); ++a) {
-                    std::vector<double> q = cur.p;
-                    const ParDef& d = M.defs()[fr[a]];
-                    const double h = d.logScale ? q[fr[a]] * 1e-4 : d.scale * 1e-4;
-                    q[fr[a]] += (q[fr[a]] + h <= d.hi) ? h : -h;
-                    M.evaluate(q, on, mp);
-                    for (std::size_t i = 0; i < n; ++i) J(long(i), long(a)) = (mp[i] - cur.model[i]) / (q[fr[a]] - cur.p[fr[a]]);
-                }
-            }
+            const Eigen::MatrixXd J = currentJacobian(M, F, on, cur);
             const auto qr = J.colPivHouseholderQr();
+            const RoundState st{M, F, opt, nm, R.bottom, R.nuisances, on, cur, J, qr, bicCur, nLik, round, reachesZeroForce};
             roundC.clear();
             std::vector<int> todo;
             for (int c : cands)
                 if (!on[c]) todo.push_back(c);
             roundC.resize(todo.size());
 #pragma omp parallel for schedule(dynamic, 1)
-            for (long ti = 0; ti < long(todo.size()); ++ti) {
-                const int c = todo[std::size_t(ti)];
-                Candidate cd;
-                cd.comp = c;
-                cd.round = round;
-                std::vector<char> on2 = on;
-                on2[c] = 1;
-                auto starts = startsFor(M, c, cur.p);
-                if (c == kNonlinearity && on[kLoadingCurve]) {
-                    cd.testable = false;
-                    cd.note = "not tested: the baseline's free loading curve (loading_curve in MODEL.json) already shapes the skeleton curve";
-                    roundC[std::size_t(ti)] = cd;
-                    continue;
-                }
-                if (c == kCohesion && !reachesZeroForce) {
-                    // without an unload to zero force the tension branch is unseen, and the loose-packing
-                    // part alone is plastic compaction: it would pose as plasticity + stiffness curvature
-                    cd.testable = false;
-                    cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
-                    roundC[std::size_t(ti)] = cd;
-                    continue;
-                }
-                if (c == kWallFriction && R.bottom.says == "no_wall_loss") {
-                    cd.testable = false;
-                    cd.note = "ruled out by the bottom stress sensor: " + bottomSensorWords(R.bottom) + ", no stress lost to the walls";
-                    roundC[std::size_t(ti)] = cd;
-                    continue;
-                }
-                if (starts.empty()) {
-                    cd.testable = false;
-                    cd.note = std::string("not testable with an axial-stress recording: needs ") + missingSegment(c);
-                    roundC[std::size_t(ti)] = cd;
-                    continue;
-                }
-                // template of the primary parameter at a small "on" value
-                const std::vector<double>& ts = starts.size() > 1 ? starts[1] : starts[0];
-                std::vector<double> mOn;
-                M.evaluate(ts, on2, mOn);
-                Eigen::VectorXd T(n);
-                for (std::size_t i = 0; i < n; ++i) T[long(i)] = mOn[i] - cur.model[i];
-                const double tn = T.norm();
-                const int pp = primaryParam(c);
-                const double dTheta = std::abs(ts[pp] - (std::isnan(M.defs()[pp].off) ? cur.p[pp] : M.defs()[pp].off));
-                if (!(tn > 1e-9 * in.stressMax * std::sqrt(double(n)))) {
-                    cd.testable = false;
-                    cd.note = std::string("no signature in this recording: it needs ") + missingSegment(c);
-                    roundC[std::size_t(ti)] = cd;
-                    continue;
-                }
-                const Eigen::VectorXd Tp = T - J * qr.solve(T);
-                cd.orthFraction = Tp.norm() / tn;
-                const int kc = int(M.paramsOf(c).size());
-                // linearised smallest detectable primary parameter: |theta * T⊥/dTheta|^2 n_eff/(n sigma^2) >= thr
-                if (Tp.norm() > 0)
-                    cd.minDetectable = dTheta * nm.sigma * std::sqrt((opt.bicThreshold + kc * std::log(nm.nEff)) * double(n) / nm.nEff) / Tp.norm();
-                // one extra start, jittered with the seed (deterministic)
-                std::mt19937_64 local(opt.seed * 1000003ULL + std::uint64_t(c) * 7919ULL + std::uint64_t(round));
-                std::uniform_real_distribution<double> U(0.5, 2.0);
-                std::vector<double> js = ts;
-                js[pp] = (std::isnan(M.defs()[pp].off) ? js[pp] : M.defs()[pp].off) + (js[pp] - (std::isnan(M.defs()[pp].off) ? 0 : M.defs()[pp].off)) * U(local);
-                starts.push_back(js);
-                FitResult f = F.fit(on2, starts);
-                double bicBest = bic(f.rss, n, nLik, nm.nEff, F.nFree(on2));
-                // The nuisances were chosen on the baseline, before any mechanism: a sensor offset and
-                // drift can have taken up part of this mechanism's signature (e.g. the tension of
-                // cohesion). A candidate that fails the criterion with them is therefore also fitted
-                // without each selected nuisance, and the better BIC stands for it. A candidate that
-                // passes with the nuisances keeps them (dropping a real drift would bias its parameters).
-                // Only nuisances the selection chose (R.nuisances, not components MODEL.json switches
-                // on), one at a time, and never for the forced-addition control.
-                // wall_friction with a bottom sensor: the sensor channel is part of its likelihood. The
-                // baseline says the bottom carries the piston stress (no loss beyond kMinWallLoss); the
-                // term says it carries T of it, T fitted on the channel itself (one parameter: the
-                // surrogate's piston-stress muK cannot stand for Janssen's when a free loading curve
-                // takes up the loading loss). Its share of dBIC: chi2 - ln n_eff of the channel.
-                if (c == kWallFriction && R.bottom.present && R.bottom.transmission.nEff > 1)
-                    cd.sensorDBIC = R.bottom.chi2 - std::log(R.bottom.transmission.nEff);
-                const bool passesWithNuisances = bicCur - bicBest + cd.sensorDBIC >= opt.bicThreshold;
-                if (!passesWithNuisances && !opt.forceBest) {
-                    const std::vector<char> onWith = on2;
-                    const FitResult fWith = f;
-                    for (int u : R.nuisances) {
-                        std::vector<char> on3 = onWith;
-                        on3[u] = 0;
-                        FitResult g = F.fit(on3, {fWith.p});
-                        const double b3 = bic(g.rss, n, nLik, nm.nEff, F.nFree(on3));
-                        if (b3 < bicBest) {
-                            bicBest = b3;
-                            f = std::move(g);
-                            on2 = on3;
-                            cd.dropsNuisances = {u};
-                        }
-                    }
-                }
-                cd.rss = f.rss;
-                cd.dBIC = bicCur - bicBest + cd.sensorDBIC;
-                cd.p = f.p;
-                cd.se = f.se;
-                if (cd.orthFraction < 0.05)
-                    cd.note = "confounded: the baseline parameters imitate it in this protocol; needs " + std::string(missingSegment(c));
-                roundC[std::size_t(ti)] = cd;
-            }
+            for (long ti = 0; ti < long(todo.size()); ++ti) roundC[std::size_t(ti)] = screenCandidate(st, todo[std::size_t(ti)]);
             (void)rng;
             // Polish: every candidate model nests the current one (its terms off), so a candidate fit that
             // beats the current model is also a start from which the current model may fit better -- the
@@ -707,7 +742,14 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // off; if the best refit is better it replaces the current model and the round is scored
             // again from it (every candidate refitted from the new current model; in round 1 the noise
             // model and the reported baseline are redone first). At most two polishes per round.
-            if (pass == 2) break;
+            if (pass == 2) {
+                for (const Candidate& cd : roundC)
+                    if (cd.testable && !cd.p.empty() && cd.rss < cur.rss * (1 - 1e-9)) {
+                        ++R.polishLimitRounds;
+                        break;
+                    }
+                break;
+            }
             FitResult best;
             bool better = false;
             for (const Candidate& cd : roundC) {
@@ -1330,6 +1372,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         fit.set("heldout_excess_definition", "sqrt(max(0, heldout_rmse^2 - sigma_noise^2)): the held-out error above the estimated noise level");
     }
     fit.set("polishes", R.polishes);
+    fit.set("polish_limit_reached_rounds", R.polishLimitRounds);
     fit.set("heldout_scheme", "blocked cross-validation, " + std::to_string(opt.folds) + " folds; every protocol phase cut into " + std::to_string(opt.folds) + " contiguous parts, one per fold (rotated between phases)");
     fit.set("explained_fraction_of_excess", R.explainedFraction);
     Json bp = Json::object();

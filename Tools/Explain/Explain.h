@@ -115,6 +115,9 @@ struct ExplainResult {
     std::vector<Candidate> candidates;
     /// times a selection round refitted the current model from a candidate's fit (the polish, step 5)
     int polishes = 0;
+    /// rounds that stopped polishing at the limit while a candidate's fit still beat the current model
+    /// (a third polish might have moved the current model further; it is not tried)
+    int polishLimitRounds = 0;
     std::vector<Window> windows;
     std::string ambiguousWith;  ///< second mechanism when verdict == ambiguous
     std::string separatingExperiment;
