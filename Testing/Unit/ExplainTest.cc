@@ -442,6 +442,7 @@ TEST(ExplainLocate, RestBeforeContactIsNotTakenForTheTension) {
         if (w.tEnd > 170) pullShare += w.share;     // one holding (part of) the pull's hold, 160-219.75 s
     }
     EXPECT_EQ(restShare, 0.0) << "the rest before contact is located as mismatch: " << ws.str();
+    EXPECT_NE(r.windowsReference.find("offset held"), std::string::npos) << r.windowsReference;
     EXPECT_GT(pullShare, 0.1) << "the pull's hold carries the tension: " << ws.str();
 }
 
@@ -786,9 +787,10 @@ TEST(ExplainCommand, EndToEndIsDeterministicAndScored) {
                   0);
     EXPECT_EQ(readWholeFile(d + "/a/report.json"), readWholeFile(d + "/b/report.json"));
     const Json rep = readJsonFile(d + "/a/report.json");
-    for (const char* key : {"verdict", "mechanisms", "windows", "fit", "dem_confirmation", "candidates", "noise"})
+    for (const char* key : {"verdict", "mechanisms", "windows", "windows_reference", "fit", "dem_confirmation", "candidates", "noise"})
         EXPECT_TRUE(rep.has(key)) << key;
     EXPECT_EQ(rep.at("dem_confirmation").at("status").asString(), "not_run");
+    EXPECT_EQ(rep.at("windows_reference").asString().find("offset held"), std::string::npos) << "no rest before contact here";
     EXPECT_TRUE(rep.at("fit").has("heldout_excess_rmse_baseline"));
     // the polish count and the rounds that stopped at its limit: at most two polishes per round
     const double polishes = rep.at("fit").at("polishes").asNumber(), capped = rep.at("fit").at("polish_limit_reached_rounds").asNumber();

@@ -1039,11 +1039,16 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                 // sensor offset alone, whatever acts after contact, so the refitted baseline keeps the
                 // augmented model's offset. Free, it moves the offset to take a level the mechanism
                 // holds (a cohesion tension), and the rest is then located as mismatch.
-                const int heldOffset = samplesBeforeContact(M, fm.p) >= kRestSamplesPinningOffset ? pOffset : -1;
+                const std::size_t rest = samplesBeforeContact(M, fm.p);
+                const int heldOffset = rest >= kRestSamplesPinningOffset ? pOffset : -1;
                 if (heldOffset >= 0)
                     for (auto& s : stB) s[pOffset] = fm.p[pOffset];
                 const FitResult fb = Fs.fit(onB, stB, {}, heldOffset);
                 if (fb.model.size() == n) {
+                    R.windowsReference = "the final model minus the baseline refitted to the final model's curve, every nuisance on";
+                    if (heldOffset >= 0)
+                        R.windowsReference += "; the sensor offset held at the final model's (" + std::to_string(rest) +
+                                              " samples of rest before first contact, device.zero_before_contact)";
                     explained.resize(n);
                     for (std::size_t i = 0; i < n; ++i) {
                         explained[i] = fm.model[i] - fb.model[i];
@@ -1358,6 +1363,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     Json wins = Json::array();
     for (const auto& w : R.windows) wins.push(windowJson(w));
     j.set("windows", wins);
+    j.set("windows_reference", R.windowsReference);
     Json fit = Json::object();
     fit.set("rmse_baseline", R.rmseBaseline);
     fit.set("rmse_augmented", R.rmseAugmented);

@@ -119,6 +119,8 @@ struct ExplainResult {
     /// (a third polish might have moved the current model further; it is not tried)
     int polishLimitRounds = 0;
     std::vector<Window> windows;
+    /// what the windows' explained part is measured against (report.json windows_reference)
+    std::string windowsReference = "the baseline residual alone (no mechanism added, or its refit failed)";
     std::string ambiguousWith;  ///< second mechanism when verdict == ambiguous
     std::string separatingExperiment;
     NoiseModel noise;
