@@ -342,11 +342,9 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     // opens the bed's unload-reload loop, which the hysteresis term draws, and the free loading curve
     // comes without the power law's exponent (redundant with the curve; at its bound n = 0.2 the
     // power law's steep rise at contact made a held-out fold of the first loading fail)
-    if (wall)
-        model = Json::object({{"baseline", Json::array({Json("stiffness_nonlinearity"), Json("plasticity"), Json("loading_curve")})}});
-    else if (coh)
+    if (coh)
         model = Json::object({{"baseline", Json::array({Json("plasticity"), Json("loading_curve"), Json("hysteresis")})}});
-    else
+    else  // relaxation, creep and wall_friction alike
         model = Json::object({{"baseline", Json::array({Json("stiffness_nonlinearity"), Json("plasticity"), Json("loading_curve")})}});
     return g;
 }
