@@ -232,6 +232,22 @@ double varianceOfMean(const NoiseModel& nm, std::size_t m) {
     return acc / (md * md);
 }
 
+/// The samples [begin, end) of the record as a window of the given phase: its time, strain and stress
+/// at both ends (share and the residual statistics are left to the caller).
+Window windowOver(const Recording& rec, std::size_t begin, std::size_t end, const std::string& phase) {
+    Window w;
+    w.begin = begin;
+    w.end = end;
+    w.phase = phase;
+    w.tStart = rec.t[begin];
+    w.tEnd = rec.t[end - 1];
+    w.epsStart = rec.strain[begin];
+    w.epsEnd = rec.strain[end - 1];
+    w.sStart = rec.stress[begin];
+    w.sEnd = rec.stress[end - 1];
+    return w;
+}
+
 /// Windows of the baseline residual `resid`. With `explained` (augmented minus baseline model, empty
 /// when nothing was added) the excess of a phase is decomposed as the energy of the explained part
 /// (noise-free) plus the significant excess of the rest (smoothed, noise subtracted); without it the
@@ -297,10 +313,7 @@ std::vector<Window> locate(const Recording& rec, const std::vector<PhaseSegment>
         if (!mm) binarySegment(z, s.begin, s.end, infl, pen, minLen, 4, cuts);  // display split only
         std::sort(cuts.begin(), cuts.end());
         for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
-            Window w;
-            w.begin = cuts[c];
-            w.end = cuts[c + 1];
-            w.phase = phaseName(s.phase);
+            Window w = windowOver(rec, cuts[c], cuts[c + 1], phaseName(s.phase));
             w.mismatch = mm;
             w.excessZ = sdPhase[k] > 0 ? exPhase[k] / sdPhase[k] : 0;
             double e = 0, sz = 0;
@@ -310,12 +323,6 @@ std::vector<Window> locate(const Recording& rec, const std::vector<PhaseSegment>
             }
             w.share = totalExcess > 0 ? std::max(0.0, e) / totalExcess : 0;
             w.meanZ = sz / double(w.end - w.begin);
-            w.tStart = rec.t[w.begin];
-            w.tEnd = rec.t[w.end - 1];
-            w.epsStart = rec.strain[w.begin];
-            w.epsEnd = rec.strain[w.end - 1];
-            w.sStart = rec.stress[w.begin];
-            w.sEnd = rec.stress[w.end - 1];
             ws.push_back(w);
         }
     }
@@ -426,20 +433,26 @@ std::string bottomSensorWords(const BottomSensor& b) {
            " (3 se) of the piston stress on first loading (its ramps and the holds after them)";
 }
 
-/// What a selection round screens every candidate against: the current model, its Jacobian in the free
-/// parameters (for the identifiability projection) and the round's settings.
-struct RoundState {
+/// A fit of the record the later steps start from: the model, the fitter, the options, the noise model
+/// with the likelihood's sample count, and the fitted model's components and parameters.
+struct FitState {
     const Model& M;
     const Fitter& F;
     const ExplainOptions& opt;
     const NoiseModel& nm;
-    const BottomSensor& bottom;
-    const std::vector<int>& nuisances;  ///< the nuisances the selection chose
+    double nLik;
     const std::vector<char>& on;
     const FitResult& cur;
+};
+
+/// What a selection round screens every candidate against: the current model (FitState), its Jacobian
+/// in the free parameters (for the identifiability projection) and the round's settings.
+struct RoundState : FitState {
+    const BottomSensor& bottom;
+    const std::vector<int>& nuisances;  ///< the nuisances the selection chose
     const Eigen::MatrixXd& J;
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr;
-    double bicCur, nLik;
+    double bicCur;
     int round;
     bool reachesZeroForce;  ///< the record unloads to zero force (cohesion's tension branch is seen)
 };
@@ -612,20 +625,14 @@ bool unloadsToZeroForce(const std::vector<double>& y, double stressMax) {
     return false;
 }
 
-/// What the selection left behind, for the steps that report on it (windows, intervals).
-struct FinalState {
+/// What the selection left behind, for the steps that report on it (windows, intervals): the final
+/// model (FitState) and the record it was fitted to.
+struct FinalState : FitState {
     const Recording& rec;
     const Protocol& proto;
-    const ExplainOptions& opt;
-    const Model& M;
-    const Fitter& F;
-    const NoiseModel& nm;
-    double nLik;
     const std::vector<PhaseSegment>& recPhases;
     const std::vector<int>& nuis;      ///< the nuisances the selection could use
     const std::vector<int>& accepted;  ///< the accepted mechanisms, in the order they were added
-    const std::vector<char>& on;       ///< the final model's components
-    const FitResult& cur;              ///< the final model's fit
 };
 
 /// Step 3, locate: R.windows (and R.phaseOfSample, R.windowsReference) from the baseline residual r0
@@ -800,16 +807,7 @@ std::vector<MechanismResult> mechanismResults(const FinalState& s, const std::ve
             const auto mk = selectMismatch(en);
             for (std::size_t k = 0; k < phases.size(); ++k)
                 if (mk[k]) {
-                    Window w;
-                    w.begin = phases[k].begin;
-                    w.end = phases[k].end;
-                    w.phase = phaseName(phases[k].phase);
-                    w.tStart = rec.t[w.begin];
-                    w.tEnd = rec.t[w.end - 1];
-                    w.epsStart = rec.strain[w.begin];
-                    w.epsEnd = rec.strain[w.end - 1];
-                    w.sStart = rec.stress[w.begin];
-                    w.sEnd = rec.stress[w.end - 1];
+                    Window w = windowOver(rec, phases[k].begin, phases[k].end, phaseName(phases[k].phase));
                     w.share = tot > 0 ? en[k] / tot : 0;
                     w.mismatch = true;
                     m.actsIn.push_back(w);
@@ -989,7 +987,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // Jacobian of the current model for the identifiability projection
             const Eigen::MatrixXd J = currentJacobian(M, F, on, cur);
             const auto qr = J.colPivHouseholderQr();
-            const RoundState st{M, F, opt, nm, R.bottom, R.nuisances, on, cur, J, qr, bicCur, nLik, round, reachesZeroForce};
+            const RoundState st{{M, F, opt, nm, nLik, on, cur}, R.bottom, R.nuisances, J, qr, bicCur, round, reachesZeroForce};
             roundC.clear();
             std::vector<int> todo;
             for (int c : cands)
@@ -1266,7 +1264,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (std::size_t i = 0; i < n; ++i) rf[i] = y[i] - cur.model[i];
         R.pNoiseFinal = blockChiSquarePValue(rf, nm, F.nFree(on));
     }
-    const FinalState fs{rec, proto, opt, M, F, nm, nLik, recPhases, nuis, accepted, on, cur};
+    const FinalState fs{{M, F, opt, nm, nLik, on, cur}, rec, proto, recPhases, nuis, accepted};
     locateMismatch(fs, r0, R);
     const double excess = rssBase - double(n) * sigma2;
     double rssFinal = 0;
@@ -1321,14 +1319,20 @@ Json parametersJson(const MechanismResult& m, const std::vector<ParDef>& defs) {
     return ps;
 }
 
-Json windowJson(const Window& w) {
+/// A window's phase, time span and strain span, with its share of `shareOf` (a report.json key).
+Json windowSpanJson(const Window& w, const char* shareOf) {
     Json o = Json::object();
+    o.set("phase", w.phase);
     o.set("t_start_s", w.tStart);
     o.set("t_end_s", w.tEnd);
-    o.set("phase", w.phase);
-    o.set("share_of_excess_residual", w.share);
     o.set("strain_start", w.epsStart);
     o.set("strain_end", w.epsEnd);
+    o.set(shareOf, w.share);
+    return o;
+}
+
+Json windowJson(const Window& w) {
+    Json o = windowSpanJson(w, "share_of_excess_residual");
     o.set("stress_start_Pa", w.sStart);
     o.set("stress_end_Pa", w.sEnd);
     o.set("mean_normalised_residual", w.meanZ);
@@ -1358,16 +1362,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         mj.set("parameters", parametersJson(m, defs));
         mj.set("inclusion_probability", m.inclusionProbability);
         Json acts = Json::array();
-        for (const auto& w : m.actsIn) {
-            Json o = Json::object();
-            o.set("phase", w.phase);
-            o.set("t_start_s", w.tStart);
-            o.set("t_end_s", w.tEnd);
-            o.set("strain_start", w.epsStart);
-            o.set("strain_end", w.epsEnd);
-            o.set("share_of_term_energy", w.share);
-            acts.push(o);
-        }
+        for (const auto& w : m.actsIn) acts.push(windowSpanJson(w, "share_of_term_energy"));
         mj.set("acts_in", acts);
         if (m.comp == kRelaxation) mj.set("per_hold", holdFitsJson(m.perHold));
         if (m.sensorMuK >= 0) {
@@ -1659,19 +1654,18 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
         gp << "set output " << gnuplotQuote(d + "fit.png.tmp") << "\n";
         gp << "set xlabel 'time (s)'\nset ylabel 'axial stress (Pa)'\nset title 'recording vs baseline vs augmented ("
            << R.verdict << ")'\n";
-        int obj = 1;
-        for (const auto& w : R.windows)
-            if (w.mismatch)
-                gp << "set object " << obj++ << " rect from " << w.tStart << ", graph 0 to " << w.tEnd
-                   << ", graph 1 fc rgb '#ffdddd' fs solid 0.5 noborder behind\n";
+        const auto shadeWindows = [&] {  // the mismatch windows as shaded time spans
+            int obj = 1;
+            for (const auto& w : R.windows)
+                if (w.mismatch)
+                    gp << "set object " << obj++ << " rect from " << w.tStart << ", graph 0 to " << w.tEnd
+                       << ", graph 1 fc rgb '#ffdddd' fs solid 0.5 noborder behind\n";
+        };
+        shadeWindows();
         gp << "plot " << gnuplotQuote(d + "series.csv") << " every ::1 u 1:3 w p pt 7 ps 0.2 lc rgb '#777777' t 'recording', '' every ::1 u 1:4 w l lw 2 lc rgb 'blue' t 'baseline', '' every ::1 u 1:5 w l lw 2 lc rgb 'red' t 'augmented'\n";
         gp << "unset object\nset output " << gnuplotQuote(d + "residual.png.tmp") << "\n";
         gp << "set ylabel 'residual / sigma'\nset title 'normalised residual'\n";
-        obj = 1;
-        for (const auto& w : R.windows)
-            if (w.mismatch)
-                gp << "set object " << obj++ << " rect from " << w.tStart << ", graph 0 to " << w.tEnd
-                   << ", graph 1 fc rgb '#ffdddd' fs solid 0.5 noborder behind\n";
+        shadeWindows();
         gp << "plot " << gnuplotQuote(d + "series.csv") << " every ::1 u 1:6 w l lc rgb 'blue' t 'baseline', '' every ::1 u 1:7 w l lc rgb 'red' t 'augmented'\n";
         gp << "unset object\nset output " << gnuplotQuote(d + "candidates.png.tmp") << "\n";
         gp << "set style data histograms\nset style fill solid\nset ylabel 'dBIC (n_eff)'\nset xlabel ''\nset xtics rotate by -30\nset title 'candidates (threshold "
