@@ -42,4 +42,4 @@ for a, b in zip(mus, mus[1:]):
     if len(d) > 1:
         m, sd, se = spread(d)
         print(f"s_dev^max(mu = {b:g}) - s_dev^max(mu = {a:g}), same seeds: n = {len(d)}, mean {m:+.4f}, "
-              f"sd {sd:.4f}, se {se:.4f} ({m / se:+.1f} se)")
+              f"sd {sd:.4f}, se {se:.4f}" + (f" ({m / se:+.1f} se)" if se > 0 else ""))

@@ -544,9 +544,9 @@ Candidate screenCandidate(const RoundState& s, int c) {
     std::mt19937_64 local(opt.seed * 1000003ULL + std::uint64_t(c) * 7919ULL + std::uint64_t(round));
     std::uniform_real_distribution<double> U(0.5, 2.0);
     std::vector<double> js = ts;
-    const double u = U(local);
-    // the step from the "off" value scaled by u; without an off value the start becomes (1 + u) times itself
-    js[pp] = std::isnan(M.defs()[pp].off) ? js[pp] + js[pp] * u : ppOff + (js[pp] - ppOff) * u;
+    const double jitter = U(local);
+    // the step from the "off" value scaled by the jitter; without an off value the start becomes (1 + jitter) times itself
+    js[pp] = std::isnan(M.defs()[pp].off) ? js[pp] + js[pp] * jitter : ppOff + (js[pp] - ppOff) * jitter;
     starts.push_back(js);
     FitResult f = F.fit(on2, starts);
     double bicBest = bic(f.rss, n, nLik, nm.nEff, F.nFree(on2));
@@ -687,7 +687,7 @@ void locateMismatch(const FinalState& s, const std::vector<double>& r0, ExplainR
             const std::size_t rest = samplesBeforeContact(M, fm.p);
             const int heldOffset = rest >= kRestSamplesPinningOffset ? pOffset : -1;
             if (heldOffset >= 0)
-                for (auto& s : stB) s[pOffset] = fm.p[pOffset];
+                for (auto& st : stB) st[pOffset] = fm.p[pOffset];
             const FitResult fb = Fs.fit(onB, stB, {}, heldOffset);
             if (fb.model.size() == n) {
                 R.windowsReference = "the final model minus the baseline refitted to the final model's curve, every nuisance on";
