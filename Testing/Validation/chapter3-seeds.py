@@ -11,19 +11,26 @@ import os
 import statistics as st
 import sys
 
+
+
+def fail(message):  # bad input: one line, exit code 2 (the project's rule)
+    print(message, file=sys.stderr)
+    sys.exit(2)
+
+
 if len(sys.argv) < 3:
-    sys.exit("usage: chapter3-seeds.py OUT_DIR OUT_DIR [...] (two or more chapter3.sh output folders)")
+    fail("usage: chapter3-seeds.py OUT_DIR OUT_DIR [...] (two or more chapter3.sh output folders)")
 runs = {}  # mu -> {folder: s_dev_max}
 for folder in sys.argv[1:]:
     path = os.path.join(folder, "ch3_summary.csv")
     if not os.path.exists(path):
-        sys.exit(f"chapter3-seeds.py: {path} is missing (run chapter3.sh first)")
+        fail(f"chapter3-seeds.py: {path} is missing (run chapter3.sh first)")
     with open(path) as f:
         for row in csv.DictReader(f):
             try:
                 runs.setdefault(float(row["mu"]), {})[folder] = float(row["s_dev_max"])
             except (KeyError, ValueError):
-                sys.exit(f"chapter3-seeds.py: {path} is not a ch3_summary.csv (mu, s_dev_max columns)")
+                fail(f"chapter3-seeds.py: {path} is not a ch3_summary.csv (mu, s_dev_max columns)")
 
 
 def spread(values):
