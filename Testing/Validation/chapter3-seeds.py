@@ -12,7 +12,6 @@ import statistics as st
 import sys
 
 
-
 def fail(message):  # bad input: one line, exit code 2 (the project's rule)
     print(message, file=sys.stderr)
     sys.exit(2)
