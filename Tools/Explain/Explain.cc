@@ -826,6 +826,201 @@ std::vector<MechanismResult> mechanismResults(const FinalState& s, const std::ve
     return out;
 }
 
+/// Polish of a selection round: every candidate model nests the current one (its terms off), so a
+/// candidate fit that beats the current model is also a start from which the current model may fit
+/// better -- the fit stopped short of its optimum (a sensor offset holding a tension plateau, say).
+/// Refits the current model (components `on`) from every such candidate's parameters with the
+/// candidate's terms off; replaces `cur` by the best refit and returns true if that is better.
+bool polishFromCandidates(const Model& M, const Fitter& F, const std::vector<char>& on, const std::vector<Candidate>& roundC,
+                          FitResult& cur) {
+    FitResult best;
+    bool better = false;
+    for (const Candidate& cd : roundC) {
+        if (!cd.testable || cd.p.empty() || !(cd.rss < cur.rss)) continue;
+        std::vector<double> q = cd.p;
+        for (int k : M.paramsOf(cd.comp))
+            if (!std::isnan(M.defs()[std::size_t(k)].off)) q[std::size_t(k)] = M.defs()[std::size_t(k)].off;
+        FitResult g = F.fit(on, {q});
+        if (g.rss < (better ? best.rss : cur.rss) * (1 - 1e-9)) {
+            best = std::move(g);
+            better = true;
+        }
+    }
+    if (better) cur = std::move(best);
+    return better;
+}
+
+/// The testable candidates of a round, best dBIC first. A bottom sensor that shows stress lost to the
+/// walls separates wall_friction from what imitates it on the piston (the axial record alone cannot):
+/// among the candidates passing the criterion within the ambiguity margin of the best, wall_friction
+/// goes first (its note says why), and it is never "ambiguous".
+std::vector<std::size_t> rankCandidates(std::vector<Candidate>& roundC, const BottomSensor& bottom, const ExplainOptions& opt) {
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < roundC.size(); ++k)
+        if (roundC[k].testable) order.push_back(k);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return roundC[a].dBIC > roundC[b].dBIC; });
+    if (bottom.says == "wall_friction_present" && !order.empty()) {
+        for (std::size_t oi = 1; oi < order.size(); ++oi) {
+            const Candidate& w = roundC[order[oi]];
+            if (w.comp == kWallFriction && w.dBIC >= opt.bicThreshold && roundC[order[0]].dBIC - w.dBIC < opt.ambiguityMargin) {
+                std::rotate(order.begin(), order.begin() + static_cast<long>(oi), order.begin() + static_cast<long>(oi) + 1);
+                roundC[order[0]].note = "preferred by the bottom stress sensor: " + bottomSensorWords(bottom);
+                break;
+            }
+        }
+    }
+    return order;
+}
+
+/// The model the selection built (components `on`, fit `cur`, mechanisms `accepted` in the order they
+/// were added), which the checks after the selection may still change, with what they need to refit it.
+struct Selection {
+    const Model& M;
+    const Fitter& F;
+    const ExplainOptions& opt;
+    const NoiseModel& nm;
+    double nLik;
+    std::size_t n;
+    const std::vector<int>& nuis;                   ///< the nuisances the selection could use
+    const std::vector<std::vector<int>>& dropsOf;  ///< nuisances each accepted mechanism replaced
+    std::vector<char>& on;
+    FitResult& cur;
+    std::vector<int>& accepted;
+    double bicOf(const FitResult& f, const std::vector<char>& o) const { return bic(f.rss, n, nLik, nm.nEff, F.nFree(o)); }
+};
+
+/// The final model without mechanism c: the better of c simply switched off and c switched off with the
+/// nuisances it replaced switched back on (otherwise a term that only stood in for a nuisance would look
+/// indispensable): its fit, BIC and component set.
+struct Without {
+    FitResult f;
+    double bic = 0;
+    std::vector<char> on;
+};
+Without withoutMechanism(const Selection& s, const ExplainResult& R, int c) {
+    Without w;
+    w.on = s.on;
+    w.on[std::size_t(c)] = 0;
+    w.f = s.F.fit(w.on, {s.cur.p});
+    w.bic = s.bicOf(w.f, w.on);
+    std::vector<char> on3 = w.on;
+    bool any = false;
+    for (int u : s.dropsOf[std::size_t(c)])
+        if (!on3[std::size_t(u)]) on3[std::size_t(u)] = 1, any = true;
+    if (any) {
+        FitResult g = s.F.fit(on3, {s.cur.p, R.pBaseline});
+        const double b3 = s.bicOf(g, on3);
+        if (b3 < w.bic) {
+            w.f = std::move(g);
+            w.bic = b3;
+            w.on = on3;
+        }
+    }
+    return w;
+}
+
+/// R.nuisances / R.nuisancesDropped from the components `on`.
+void syncNuisances(const std::vector<int>& nuis, const std::vector<char>& on, ExplainResult& R) {
+    for (int u : nuis) {
+        const bool isOn = on[std::size_t(u)] != 0;
+        auto& from = isOn ? R.nuisancesDropped : R.nuisances;
+        auto& to = isOn ? R.nuisances : R.nuisancesDropped;
+        if (std::find(from.begin(), from.end(), u) != from.end()) {
+            from.erase(std::remove(from.begin(), from.end(), u), from.end());
+            to.push_back(u);
+        }
+    }
+}
+
+/// The bottom sensor's part of an accepted wall_friction's dBIC (its own channel: dropping the mechanism
+/// drops the channel's transmission too); 0 for every other mechanism.
+double sensorPart(const ExplainResult& R, int c) {
+    double part = 0;
+    for (const auto& cd : R.candidates)
+        if (cd.comp == c && cd.accepted) part = cd.sensorDBIC;
+    return part;
+}
+
+/// Backward check: drops an accepted mechanism that the later ones made redundant (the final model
+/// without it loses less than the acceptance threshold of BIC), one at a time until none is.
+void dropRedundantMechanisms(Selection& s, ExplainResult& R) {
+    bool dropped = true;
+    while (dropped && s.accepted.size() > 1) {
+        dropped = false;
+        const double bicFull = s.bicOf(s.cur, s.on);
+        for (std::size_t a = 0; a < s.accepted.size(); ++a) {
+            Without w = withoutMechanism(s, R, s.accepted[a]);
+            if (w.bic - bicFull + sensorPart(R, s.accepted[a]) < s.opt.bicThreshold) {
+                for (auto& cd : R.candidates)
+                    if (cd.comp == s.accepted[a] && cd.accepted) {
+                        cd.accepted = false;
+                        cd.note = "accepted, then dropped: redundant once the later mechanisms were added";
+                    }
+                s.on = w.on;
+                syncNuisances(s.nuis, s.on, R);
+                s.cur = std::move(w.f);
+                s.accepted.erase(s.accepted.begin() + long(a));
+                dropped = true;
+                break;
+            }
+        }
+    }
+}
+
+/// Nuisances re-checked on the final model: one left out (or dropped with a mechanism) that now pays
+/// for itself (the rule of step 2: dBIC >= 2) is added back.
+void addBackNuisances(Selection& s, ExplainResult& R) {
+    for (int u : s.nuis) {
+        if (s.on[u]) continue;
+        std::vector<char> on2 = s.on;
+        on2[u] = 1;
+        FitResult f = s.F.fit(on2, startsFor(s.M, u, s.cur.p));
+        if (s.bicOf(s.cur, s.on) - s.bicOf(f, on2) >= 2) {
+            const bool wasDropped = std::find(R.nuisancesDropped.begin(), R.nuisancesDropped.end(), u) !=
+                                    R.nuisancesDropped.end();
+            s.on = on2;
+            s.cur = std::move(f);
+            if (wasDropped) {
+                syncNuisances(s.nuis, s.on, R);
+                for (auto& cd : R.candidates)
+                    if (cd.accepted && std::find(cd.dropsNuisances.begin(), cd.dropsNuisances.end(), u) != cd.dropsNuisances.end())
+                        cd.note += std::string("; ") + compName(u) + " added back on the final model";
+            } else {
+                R.nuisances.push_back(u);
+            }
+        }
+    }
+}
+
+/// Inclusion probability of each accepted mechanism (indexed by component): its BIC weight among the
+/// alternatives of the round in which it was added (that round's candidates not in the final model,
+/// except those the selection itself rejected on held-out data), times the BIC probability that the
+/// final model needs it at all (the final model against the same model without it, even prior odds).
+std::vector<double> inclusionProbabilities(const Selection& s, const ExplainResult& R) {
+    std::vector<double> inclusion(kNumComp, 0.0);
+    const double bicFull = s.bicOf(s.cur, s.on);
+    for (int c : s.accepted) {
+        const double dropBic = withoutMechanism(s, R, c).bic - bicFull + sensorPart(R, c);
+        int round = 0;
+        double own = 0;
+        for (const auto& cd : R.candidates)
+            if (cd.comp == c && cd.testable && cd.round >= round) {
+                round = cd.round;
+                own = cd.dBIC;
+            }
+        // "nothing more" is the drop-one factor
+        double z = 0;
+        for (const auto& cd : R.candidates)
+            if (cd.round == round && cd.testable && std::isfinite(cd.dBIC) &&
+                (cd.comp == c || (!s.on[cd.comp] && !cd.rejectedHeldOut)))
+                z += std::exp(0.5 * std::clamp(cd.dBIC - own, -1400.0, 1400.0));
+        const double p = (z > 0 && std::isfinite(own) ? 1 / z : 0.0) /
+                         (1 + std::exp(-0.5 * std::clamp(std::isfinite(dropBic) ? dropBic : -1400.0, -1400.0, 1400.0)));
+        inclusion[std::size_t(c)] = std::isfinite(p) ? p : 0.0;
+    }
+    return inclusion;
+}
+
 /// Step 7: the verdict and its one-paragraph summary, from the candidates, the accepted mechanisms and
 /// the noise tests.
 void decideVerdict(ExplainResult& R, const std::vector<int>& accepted, bool ambiguous, const NoiseModel& nm) {
@@ -1010,43 +1205,12 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
                     }
                 break;
             }
-            FitResult best;
-            bool better = false;
-            for (const Candidate& cd : roundC) {
-                if (!cd.testable || cd.p.empty() || !(cd.rss < cur.rss)) continue;
-                std::vector<double> q = cd.p;
-                for (int k : M.paramsOf(cd.comp))
-                    if (!std::isnan(M.defs()[std::size_t(k)].off)) q[std::size_t(k)] = M.defs()[std::size_t(k)].off;
-                FitResult g = F.fit(on, {q});
-                if (g.rss < (better ? best.rss : cur.rss) * (1 - 1e-9)) {
-                    best = std::move(g);
-                    better = true;
-                }
-            }
-            if (!better) break;
-            cur = std::move(best);
+            if (!polishFromCandidates(M, F, on, roundC, cur)) break;
             if (round == 1) settleBaseline();
             ++R.polishes;
         }
-        // rank
-        std::vector<std::size_t> order;
-        for (std::size_t k = 0; k < roundC.size(); ++k)
-            if (roundC[k].testable) order.push_back(k);
-        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return roundC[a].dBIC > roundC[b].dBIC; });
-        // a bottom sensor that shows stress lost to the walls separates wall_friction from what imitates
-        // it on the piston (the axial record alone cannot): among the candidates passing the criterion
-        // within the ambiguity margin of the best, wall_friction goes first, and it is never "ambiguous"
         const bool wallSeen = R.bottom.says == "wall_friction_present";
-        if (wallSeen && !order.empty()) {
-            for (std::size_t oi = 1; oi < order.size(); ++oi) {
-                const Candidate& w = roundC[order[oi]];
-                if (w.comp == kWallFriction && w.dBIC >= opt.bicThreshold && roundC[order[0]].dBIC - w.dBIC < opt.ambiguityMargin) {
-                    std::rotate(order.begin(), order.begin() + static_cast<long>(oi), order.begin() + static_cast<long>(oi) + 1);
-                    roundC[order[0]].note = "preferred by the bottom stress sensor: " + bottomSensorWords(R.bottom);
-                    break;
-                }
-            }
-        }
+        const std::vector<std::size_t> order = rankCandidates(roundC, R.bottom, opt);
         int chosen = -1;
         for (std::size_t oi = 0; oi < order.size(); ++oi) {
             Candidate& cd = roundC[order[oi]];
@@ -1127,132 +1291,10 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         if (ambiguous) break;
     }
 
-    // The final model without mechanism c: the better of c simply switched off and c switched off
-    // with the nuisances it replaced switched back on (otherwise a term that only stood in for a
-    // nuisance would look indispensable). Returns the fit, its BIC and its component set.
-    struct Without {
-        FitResult f;
-        double bic = 0;
-        std::vector<char> on;
-    };
-    auto withoutMechanism = [&](int c) {
-        Without w;
-        w.on = on;
-        w.on[std::size_t(c)] = 0;
-        w.f = F.fit(w.on, {cur.p});
-        w.bic = bic(w.f.rss, n, nLik, nm.nEff, F.nFree(w.on));
-        std::vector<char> on3 = w.on;
-        bool any = false;
-        for (int u : dropsOf[std::size_t(c)])
-            if (!on3[std::size_t(u)]) on3[std::size_t(u)] = 1, any = true;
-        if (any) {
-            FitResult g = F.fit(on3, {cur.p, R.pBaseline});
-            const double b3 = bic(g.rss, n, nLik, nm.nEff, F.nFree(on3));
-            if (b3 < w.bic) {
-                w.f = std::move(g);
-                w.bic = b3;
-                w.on = on3;
-            }
-        }
-        return w;
-    };
-    auto syncNuisances = [&] {  // R.nuisances / R.nuisancesDropped from the current `on`
-        for (int u : nuis) {
-            const bool isOn = on[std::size_t(u)] != 0;
-            auto& from = isOn ? R.nuisancesDropped : R.nuisances;
-            auto& to = isOn ? R.nuisances : R.nuisancesDropped;
-            if (std::find(from.begin(), from.end(), u) != from.end()) {
-                from.erase(std::remove(from.begin(), from.end(), u), from.end());
-                to.push_back(u);
-            }
-        }
-    };
-
-    // the bottom sensor's part of an accepted wall_friction's dBIC (its own channel: dropping the
-    // mechanism drops the channel's transmission too)
-    const auto sensorPart = [&](int c) {
-        double part = 0;
-        for (const auto& cd : R.candidates)
-            if (cd.comp == c && cd.accepted) part = cd.sensorDBIC;
-        return part;
-    };
-    // ---- backward check: drop an accepted mechanism that the later ones made redundant ----
-    if (accepted.size() > 1 && !opt.forceBest) {
-        bool dropped = true;
-        while (dropped && accepted.size() > 1) {
-            dropped = false;
-            const double bicFull = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
-            for (std::size_t a = 0; a < accepted.size(); ++a) {
-                Without w = withoutMechanism(accepted[a]);
-                if (w.bic - bicFull + sensorPart(accepted[a]) < opt.bicThreshold) {
-                    for (auto& cd : R.candidates)
-                        if (cd.comp == accepted[a] && cd.accepted) {
-                            cd.accepted = false;
-                            cd.note = "accepted, then dropped: redundant once the later mechanisms were added";
-                        }
-                    on = w.on;
-                    syncNuisances();
-                    cur = std::move(w.f);
-                    accepted.erase(accepted.begin() + long(a));
-                    dropped = true;
-                    break;
-                }
-            }
-        }
-    }
-
-    // ---- nuisances re-checked on the final model: one left out (or dropped above) that now pays
-    // for itself (the same rule as in step 2) is added back ----
-    if (!accepted.empty() && !opt.forceBest)
-        for (int u : nuis) {
-            if (on[u]) continue;
-            std::vector<char> on2 = on;
-            on2[u] = 1;
-            FitResult f = F.fit(on2, startsFor(M, u, cur.p));
-            if (bic(cur.rss, n, nLik, nm.nEff, F.nFree(on)) - bic(f.rss, n, nLik, nm.nEff, F.nFree(on2)) >= 2) {
-                const bool wasDropped = std::find(R.nuisancesDropped.begin(), R.nuisancesDropped.end(), u) !=
-                                        R.nuisancesDropped.end();
-                on = on2;
-                cur = std::move(f);
-                if (wasDropped) {
-                    syncNuisances();
-                    for (auto& cd : R.candidates)
-                        if (cd.accepted && std::find(cd.dropsNuisances.begin(), cd.dropsNuisances.end(), u) !=
-                                               cd.dropsNuisances.end())
-                            cd.note += std::string("; ") + compName(u) + " added back on the final model";
-                } else {
-                    R.nuisances.push_back(u);
-                }
-            }
-        }
-
-    // inclusion probability of each accepted mechanism: its BIC weight among the alternatives of the
-    // round in which it was added (see below which candidates count), times the BIC probability that the final model needs it at all (the final model against the
-    // same model without it, even prior odds)
-    std::vector<double> inclusion(kNumComp, 0.0);
-    {
-        const double bicFull = bic(cur.rss, n, nLik, nm.nEff, F.nFree(on));
-        for (int c : accepted) {
-            const double dropBic = withoutMechanism(c).bic - bicFull + sensorPart(c);
-            int round = 0;
-            double own = 0;
-            for (const auto& cd : R.candidates)
-                if (cd.comp == c && cd.testable && cd.round >= round) {
-                    round = cd.round;
-                    own = cd.dBIC;
-                }
-            // alternatives: the same round's candidates that are not in the final model, except those
-            // the selection itself rejected on held-out data ("nothing more" is the drop-one factor)
-            double z = 0;
-            for (const auto& cd : R.candidates)
-                if (cd.round == round && cd.testable && std::isfinite(cd.dBIC) &&
-                    (cd.comp == c || (!on[cd.comp] && !cd.rejectedHeldOut)))
-                    z += std::exp(0.5 * std::clamp(cd.dBIC - own, -1400.0, 1400.0));
-            const double p = (z > 0 && std::isfinite(own) ? 1 / z : 0.0) /
-                             (1 + std::exp(-0.5 * std::clamp(std::isfinite(dropBic) ? dropBic : -1400.0, -1400.0, 1400.0)));
-            inclusion[std::size_t(c)] = std::isfinite(p) ? p : 0.0;
-        }
-    }
+    Selection sel{M, F, opt, nm, nLik, n, nuis, dropsOf, on, cur, accepted};
+    if (accepted.size() > 1 && !opt.forceBest) dropRedundantMechanisms(sel, R);
+    if (!accepted.empty() && !opt.forceBest) addBackNuisances(sel, R);
+    const std::vector<double> inclusion = inclusionProbabilities(sel, R);
 
     // ---- 6. final model, held-out errors ----
     R.pFinal = cur.p;
