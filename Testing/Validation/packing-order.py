@@ -3,7 +3,7 @@
 
 Why: thesis Sec. 3.5 / Appendix II find a contact distribution P(theta) with "two strong peaks at
 about pi/2 +- pi/4 and a local maximum at pi/2", which our packings do not show
-(Documentation/validation-thesis-ch3.md, "Packing order"). Those three directions are exactly the
+(Documentation/validation-thesis-ch3.md, "P(theta)'s peaks and local crystalline order"). Those three directions are exactly the
 nearest-neighbour directions of a face-centred cubic lattice aligned with the box axes (<110>:
 8 of 12 neighbours at 45 / 135 degrees to z, 4 at 90 degrees). This script measures how much of a
 packing is locally crystalline and what P(theta) its contacts have, so the two can be compared.
@@ -16,7 +16,7 @@ For each restart file it prints one line:
     Legendre P6 of neighbour-direction dot products, so no complex harmonics are needed),
   P(theta) of the contacts (overlap > 0) in nine 10-degree bins of theta folded into [0, 90] deg,
     normalised so that an isotropic distribution gives 1 in every bin (the thesis' phi/(dtheta sin)).
---fcc N writes nothing and checks the measure on a perfect box-aligned FCC crystal of 4 N^3 spheres
+--fcc N reads no file and checks the measure on a perfect box-aligned FCC crystal of 4 N^3 spheres
 instead (crystalline fraction 1, P(theta) only in the 40-50 and 80-90 degree bins).
 
 Usage: packing-order.py RUN.restart [RUN.restart ...] | packing-order.py --fcc 6
@@ -47,23 +47,36 @@ def read_restart(path):
         if not w:
             continue
         if w[0] == "box" and len(w) >= 10:
-            lo = [float(v) for v in w[1:4]]
-            hi = [float(v) for v in w[4:7]]
+            try:
+                lo = [float(v) for v in w[1:4]]
+                hi = [float(v) for v in w[4:7]]
+            except ValueError:
+                fail(f"{path}: malformed box line '{line[:60]}'")
             box = ([h - l for l, h in zip(lo, hi)], [w[7 + i] == "1" for i in range(3)])
+            if not all(math.isfinite(x) and x > 0 for x in box[0]):
+                fail(f"{path}: box lengths must be finite and positive")
         if w[0] == "walls":
             walls_seen = True
         if w[0] == "particles" and len(w) == 2 and walls_seen:
             if box is None:
                 fail(f"{path}: no box line before the particle section")
-            n = int(w[1])
+            try:
+                n = int(w[1])
+            except ValueError:
+                fail(f"{path}: malformed particle count '{w[1]}'")
             if k + n >= len(lines):
                 fail(f"{path}: truncated particle section ({n} particles announced)")
             parts = []
             for line2 in lines[k + 1:k + 1 + n]:
                 v = line2.split()
-                if len(v) < 16:
+                try:
+                    if len(v) < 16:
+                        raise ValueError
+                    parts.append((float(v[0]), float(v[1]), float(v[2]), float(v[15])))
+                except ValueError:
                     fail(f"{path}: malformed particle line '{line2[:60]}'")
-                parts.append((float(v[0]), float(v[1]), float(v[2]), float(v[15])))
+                if not all(math.isfinite(c) for c in parts[-1]) or parts[-1][3] <= 0:
+                    fail(f"{path}: particle {len(parts) - 1} has a non-finite position or a radius <= 0")
             return box, parts
     fail(f"{path}: no particle section")
 
