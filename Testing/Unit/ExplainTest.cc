@@ -733,6 +733,16 @@ TEST(ExplainInput, BadInputsAreInputErrors) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("axial_stress_Pa 1e+300 (sample 6)"), std::string::npos) << e.what();
     }
+    // the recording format's own checks (pdpm-recording-check): a column in kPa is refused by line, not
+    // read as missing
+    writeWholeFile(d + "/kPa.csv", "time_s,axial_strain,axial_stress_kPa\n" + csv2.substr(csv2.find("0,")));
+    try {
+        readRecording(d + "/kPa.csv", p);
+        ADD_FAILURE() << "a stress column in kPa accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("kPa.csv:1: column 'axial_stress_kPa': wrong unit, use 'axial_stress_Pa'"),
+                  std::string::npos) << e.what();
+    }
     EXPECT_EQ(runExplainCommand({"--recording", d + "/ok.csv", "--protocol", d + "/ok.json", "--output", d + "/out"}), 2);
     EXPECT_EQ(runExplainCommand({"--recording", d + "/missing.csv", "--protocol", d + "/ok.json", "--output", d + "/out"}), 2);
     EXPECT_EQ(runExplainCommand({"--protocol", d + "/ok.json", "--output", d + "/out"}), 2);

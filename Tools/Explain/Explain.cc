@@ -1540,7 +1540,7 @@ void writeReport(const std::string& dir, const ExplainResult& R, const Recording
     Json dem = Json::object();
     dem.set("status", "not_run");
     dem.set("reason", "the DEM re-run is done by the pdpm-explain command, on one recording (the first that accepted "
-                      "contact_relaxation); this report was written without it");
+                      "a mechanism with a DEM counterpart); this report was written without it");
     dem.set("heldout_rmse_baseline", Json());
     dem.set("heldout_rmse_augmented", Json());
     j.set("dem_confirmation", dem);

@@ -7,7 +7,6 @@
 
 #include "Core/Error.h"
 #include "Core/Parameters.h"
-#include "IO/Csv.h"
 #include "IO/Json.h"
 #include "Recording.h"
 
@@ -98,28 +97,23 @@ recording::Protocol toRecordingProtocol(const Protocol& p) {
 }
 
 Recording readRecording(const std::string& path, const Protocol& proto) {
-    const CsvTable tab = readCsv(path);
+    // the documented recording format, checked as pdpm-recording-check does (header, units, finite
+    // numbers, time_s strictly increasing, at least one measured channel): the first problem found
+    // ends the run with its line number
+    const recording::Recording tab = recording::readRecording(path);
+    const auto has = [&](const char* name) { return tab.column(name) >= 0; };
     Recording r;
     r.source = path;
-    if (!tab.hasColumn("time_s")) inputError(path + ": required column time_s is missing");
-    static const char* known[] = {"axial_stress_Pa", "axial_strain", "piston_position_m",
-                                  "lateral_stress_Pa", "bottom_stress_Pa", "volume_fraction"};
-    bool any = false;
-    for (const char* k : known) any = any || tab.hasColumn(k);
-    if (!any) inputError(path + ": none of the measurement columns (axial_stress_Pa, axial_strain, ...) is present");
     if (tab.rows.size() < 20) inputError(path + ": " + std::to_string(tab.rows.size()) + " samples; at least 20 are needed");
-    r.t = tab.columnValues("time_s");
-    for (std::size_t i = 1; i < r.t.size(); ++i)
-        if (!(r.t[i] > r.t[i - 1]))
-            inputError(path + ": time_s must increase strictly (sample " + std::to_string(i + 1) + ")");
-    if (!tab.hasColumn("axial_stress_Pa"))
+    r.t = tab.values("time_s");
+    if (!has("axial_stress_Pa"))
         inputError(path + ": pdpm-explain needs the response column axial_stress_Pa");
-    r.stress = tab.columnValues("axial_stress_Pa");
-    if (tab.hasColumn("axial_strain")) {
-        r.strain = tab.columnValues("axial_strain");
+    r.stress = tab.values("axial_stress_Pa");
+    if (has("axial_strain")) {
+        r.strain = tab.values("axial_strain");
         r.strainSource = "axial_strain";
-    } else if (tab.hasColumn("piston_position_m")) {
-        const auto z = tab.columnValues("piston_position_m");
+    } else if (has("piston_position_m")) {
+        const auto z = tab.values("piston_position_m");
         r.strain.resize(z.size());
         for (std::size_t i = 0; i < z.size(); ++i) r.strain[i] = (z[0] - z[i]) / proto.height;
         r.strainSource = "piston_position_m";
@@ -128,10 +122,10 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
     }
     for (double e : r.strain)
         if (std::abs(e) >= 1) inputError(path + ": axial strain " + std::to_string(e) + " is not in (-1, 1)");
-    if (tab.hasColumn("lateral_stress_Pa")) r.lateral = tab.columnValues("lateral_stress_Pa");
-    if (tab.hasColumn("bottom_stress_Pa")) r.bottom = tab.columnValues("bottom_stress_Pa");
-    if (tab.hasColumn("step")) {
-        const std::vector<double> st = tab.columnValues("step");
+    if (has("lateral_stress_Pa")) r.lateral = tab.values("lateral_stress_Pa");
+    if (has("bottom_stress_Pa")) r.bottom = tab.values("bottom_stress_Pa");
+    if (has("step")) {
+        const std::vector<double> st = tab.values("step");
         for (std::size_t i = 0; i < st.size(); ++i) {
             if (!(st[i] >= 0) || st[i] != std::floor(st[i]) || st[i] >= double(std::max<std::size_t>(proto.steps.size(), 1)))
                 inputError(path + ": step " + std::to_string(st[i]) + " (sample " + std::to_string(i + 1) +
