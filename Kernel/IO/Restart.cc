@@ -137,7 +137,11 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         inputError("restart file " + path + " was written by " + prog + ", not by " + name_);
     expect(is, "law", path);
     is >> lawName >> hsize;
-    if (params_.wasSetOnCommandLine("contact_law") && lawName_ != lawName)
+    // Resuming needs the file's law. A new experiment from the file's state (stateOnly) may name
+    // another one with --contact_law: it is kept, and the file's contact histories, which belong to
+    // the file's law, are dropped (the first neighbour build starts every contact afresh).
+    const bool ownLaw = params_.wasSetOnCommandLine("contact_law") && lawName_ != lawName;
+    if (ownLaw && !stateOnly)
         inputError("restart file " + path + " uses contact law '" + lawName + "' but --contact_law is '" + lawName_ + "'");
     auto law = makeContactLaw(lawName);
     if (law->historySize() != hsize)
@@ -188,8 +192,10 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         if (!stateOnly && params_.has(name) && !params_.wasSetOnCommandLine(name)) params_.set(name, value);
     }
     if (!stateOnly && !params_.wasSetOnCommandLine("dt")) dt_ = dtFile;
-    law_ = std::move(law);
-    lawName_ = lawName;
+    if (!ownLaw) {
+        law_ = std::move(law);
+        lawName_ = lawName;
+    }
     int ns = 0;
     expect(is, "species", path);
     is >> ns;
@@ -239,6 +245,7 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         particles_.t[k] = t;
     }
     neighbours_.read(is, n, nw);
+    if (ownLaw) neighbours_.dropHistories();
     std::size_t nkv = 0;
     expect(is, "driver", path);
     is >> nkv;

@@ -40,6 +40,14 @@ public:
     void build(ParticleData& p, PeriodicBox& box, const WallList& walls, int historySize);
     /// Forget everything (e.g. after particles were added or the law changed).
     void invalidate() { valid_ = false; }
+    /// Forgets every contact history (pairs and walls), so that the next build starts all contacts
+    /// afresh: for a state whose histories belong to another contact law.
+    void dropHistories() {
+        history.clear();
+        wallHistory.clear();
+        historySize = 0;
+        valid_ = false;
+    }
     bool isValid() const { return valid_; }
 
     // ---- pair data (read by the contact loops) --------------------------------------------------
