@@ -24,7 +24,7 @@ public:
               pdpm::Range::positive());
         p.add("wall_mass", &wallMass_, 1.0, "-", "triaxial: virtual wall mass in units of the total particle mass",
               pdpm::Range::positive());
-        p.set("v_i", "0.70");
+        p.setDefault("v_i", "0.70");
     }
 
 protected:

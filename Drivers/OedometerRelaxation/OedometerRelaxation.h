@@ -57,9 +57,9 @@ public:
                     {{"geometry", "cylinder"}, {"device", "lambdameter"}, {"diameter", "0.149"}, {"fill_height_m", "0.06"},
                      {"protocol", "1"}, {"max_stress", "25000"}, {"hold_tau", "0.005"}, {"ramp_rate", "1"},
                       {"relax_memory", "0.1"}});
-        p.set("vtk", "0");
-        p.set("restart_output", "0");
-        p.set("contact_law", "luding-relax");
+        p.setDefault("vtk", "0");
+        p.setDefault("restart_output", "0");
+        p.setDefault("contact_law", "luding-relax");
         state_.add("fillTime", fillTime_).add("poured", poured_).add("mouldWall", mouldWall_);
     }
 

@@ -21,7 +21,7 @@ public:
         parameters().add("radius", &r_, 1e-3, "m", "mean radius (radii vary by +-10 %)", Range::positive());
         parameters().add("mu", &mu_, 0.5, "-", "sliding friction coefficient", Range::nonNegative());
         parameters().add("restitution", &e_, 0.5, "-", "restitution coefficient", Range::openClosed(0, 1));
-        parameters().set("time_max", "0.3");  // new default for a kernel parameter; --time_max still wins
+        parameters().setDefault("time_max", "0.3");  // new default of a kernel parameter; --time_max wins
     }
 
 protected:

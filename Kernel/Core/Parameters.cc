@@ -322,6 +322,17 @@ void ParameterSet::set(const std::string& name, const std::string& value) {
     }
 }
 
+void ParameterSet::setDefault(const std::string& name, const std::string& value) {
+    set(name, value);
+    Entry& e = entry(name);
+    e.defaultValue = get(name);
+    switch (e.kind) {
+    case Kind::Double: e.defaultText = formatDoubleShort(*static_cast<const double*>(e.target)); break;
+    case Kind::String: e.defaultText = e.defaultValue.empty() ? "\"\"" : e.defaultValue; break;
+    default: e.defaultText = e.defaultValue; break;
+    }
+}
+
 std::string ParameterSet::get(const std::string& name) const {
     const Entry& e = entry(name);
     switch (e.kind) {

@@ -83,6 +83,9 @@ public:
     /// Parses and validates `value`, then stores it in the target. Throws InputError naming the
     /// parameter, the value and the allowed range / choices.
     void set(const std::string& name, const std::string& value);
+    /// set(), and `value` becomes the parameter's default: what --help shows and resetToDefaults()
+    /// restores. For a driver's own default of a kernel parameter (call it in the constructor).
+    void setDefault(const std::string& name, const std::string& value);
     /// Current value as text (doubles with 17 significant digits so they round-trip exactly).
     std::string get(const std::string& name) const;
     bool has(const std::string& name) const;

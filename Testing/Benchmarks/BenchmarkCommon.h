@@ -55,9 +55,9 @@ public:
         parameters().add("start", &start_, defaultStartFile(startFile),
                          "start file (*.xyzr); empty: prepare an equivalent configuration");
         parameters().add("steps", &steps_, steps, "-", "number of time steps", Range::atLeast(1));
-        parameters().set("dt", fmt(dt));
-        parameters().set("time_max", "1");             // replaced by steps * dt
-        parameters().set("max_initial_overlap", "1");  // the decks are compressed packings
+        parameters().setDefault("dt", fmt(dt));
+        parameters().setDefault("time_max", "1");             // replaced by steps * dt
+        parameters().setDefault("max_initial_overlap", "1");  // the decks are compressed packings
         disableFileOutput();
     }
 

@@ -153,6 +153,23 @@ TEST(Fitting, AnisotropyTableFile) {
     }
 }
 
+// --branch auto: a cycle (the axial strain turns back after tau = 0.5) gives its unloading rows; a
+// deviatoric test, whose tau also runs to 1 but whose axial strain never turns back, gives every test
+// row (before: only its second half); a file without eps_zz keeps the tau rule.
+TEST(Fitting, AutoBranchTellsACycleFromAOneWayTest) {
+    std::string cycle = "tau,p_nd,eps_zz\n-0.5,0,0\n", shear = cycle, old = "tau,p_nd\n";
+    for (int k = 0; k <= 10; ++k) {
+        const double tau = 0.1 * k;
+        cycle += std::to_string(tau) + ",0.01," + std::to_string(0.1 * (0.5 - std::abs(tau - 0.5))) + "\n";
+        shear += std::to_string(tau) + ",0.01," + std::to_string(0.02 * tau) + "\n";
+        old += std::to_string(tau) + ",0.01\n";
+    }
+    const auto rows = [](const std::string& text) { return selectRows(parseCsv(text, "t.csv"), BranchSelect::Auto).size(); };
+    EXPECT_EQ(rows(cycle), 5u);   // tau 0.6 ... 1.0
+    EXPECT_EQ(rows(shear), 11u);  // tau 0 ... 1 (the preparation row at -0.5 left out)
+    EXPECT_EQ(rows(old), 5u);
+}
+
 TEST(Fitting, RefusesTooFewPoints) {
     EXPECT_THROW(fitCstar({0.7, 0.71}, {6.5, 6.6}), InputError);
     EXPECT_THROW(fitSaturation({0.1, 0.2}, {0.1}), InputError);

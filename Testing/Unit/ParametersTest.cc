@@ -208,6 +208,30 @@ TEST(Parameters, IntRangeOfIntTarget) {
     EXPECT_EQ(n, std::numeric_limits<int>::min());
 }
 
+// setDefault: a driver's own default of a registered parameter is its value, what --help shows and
+// what resetToDefaults() restores; a plain set() changes only the value; range checks still apply.
+TEST(Parameters, SetDefaultChangesValueHelpAndReset) {
+    double t = 0;
+    std::string law;
+    ParameterSet p;
+    p.add("time_max", &t, 0.0, "s", "end time", Range::nonNegative());
+    p.add("law", &law, "linear", "contact law", {"linear", "luding"});
+    p.setDefault("time_max", "0.3");
+    p.setDefault("law", "luding");
+    p.set("time_max", "7");  // a later set() is a value, not a default
+    EXPECT_EQ(t, 7.0);
+    std::ostringstream os;
+    p.printHelp(os, "P", "");
+    EXPECT_TRUE(contains(os.str(), "0.3")) << os.str();
+    EXPECT_TRUE(contains(os.str(), "luding")) << os.str();
+    EXPECT_FALSE(contains(os.str(), " 7 ")) << os.str();
+    p.resetToDefaults();
+    EXPECT_EQ(t, 0.3);
+    EXPECT_EQ(law, "luding");
+    EXPECT_THROW(p.setDefault("time_max", "-1"), InputError);
+    EXPECT_THROW(p.setDefault("no_such", "1"), InputError);
+}
+
 TEST(Parameters, PresetAppliedFirstExplicitFlagsWin) {
     {
         Driver d;

@@ -204,8 +204,24 @@ std::vector<std::vector<double>> selectRows(const CsvTable& t, BranchSelect b, d
     const int tau = t.column("tau");
     const int p = t.column("p_nd");
     if (b == BranchSelect::Auto) {
+        // unloading when the test has one: rows past tau = 0.5 and, where the file has eps_zz, a
+        // reversal of the axial strain (a cycle of IsotropicCompression or UniaxialCyclic). A
+        // deviatoric or triaxial test also runs tau from 0 to 1, but its axial strain never turns
+        // back, so the whole test is taken.
         bool unloading = false;
         for (const auto& r : t.rows) unloading = unloading || r[tau] > 0.5 + 1e-9;
+        if (unloading && t.hasColumn("eps_zz")) {
+            const int ezz = t.column("eps_zz");
+            double start = 0, top = -std::numeric_limits<double>::infinity(), end = 0;
+            bool first = true;
+            for (const auto& r : t.rows)
+                if (r[tau] >= 0) {
+                    if (first) start = r[ezz], first = false;
+                    top = std::max(top, r[ezz]);
+                    end = r[ezz];
+                }
+            unloading = !first && top > start && top - end > 0.1 * (top - start);
+        }
         b = unloading ? BranchSelect::Unloading : BranchSelect::Test;
     }
     std::vector<std::vector<double>> out;

@@ -53,7 +53,9 @@ FitResult fitVolumeDependence(const std::vector<double>& v, const std::vector<do
 // ---- macro CSV helpers ----------------------------------------------------------------------------
 enum class BranchSelect { Loading, Unloading, Test, Auto };
 /// Rows of a RUN.macro.csv on a branch (tau in (0, 0.5] / (0.5, 1] / >= 0); Auto: unloading when the
-/// run has rows with tau > 0.5, else every test row. Only jammed rows (p_nd > pMin) if pMin > 0.
+/// run has rows with tau > 0.5 and its axial strain eps_zz turns back (a cycle; without an eps_zz
+/// column the rows past 0.5 decide alone), else every test row (deviatoric and triaxial tests). Only
+/// jammed rows (p_nd > pMin) if pMin > 0.
 std::vector<std::vector<double>> selectRows(const CsvTable& t, BranchSelect b, double pMin = 0);
 std::vector<double> column(const CsvTable& t, const std::vector<std::vector<double>>& rows, const std::string& name);
 

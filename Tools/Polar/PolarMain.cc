@@ -84,7 +84,7 @@ int run(int argc, char** argv) {
     cli.add("axis", &axis, "z", "reference axis: x, y, z or 'ax,ay,az'");
     cli.add("bins_theta", &binsTheta, 18, "constant-width bins on [0, pi/2]", 5, 100000);
     cli.add("bins_height", &binsHeight, 10, "constant-height bins on |cos theta| in [0, 1]", 5, 100000);
-    cli.add("normalisation", &normalisation, "sin", "P(theta) = phi/(dtheta sin theta) or phi/(cos_i - cos_f)", {"sin", "cos"});
+    cli.add("normalisation", &normalisation, "sin", "P(theta) = phi/(2 dtheta sin theta) or phi/(2 (cos_i - cos_f)) (2: the mirror bin)", {"sin", "cos"});
     cli.add("mu", &mu, 0.5, "", "friction coefficient for psi_t = f_t/(mu f_n)", 0, Cli::inf, true);
     cli.add("walls", &walls, false, "include wall contacts");
     cli.add("chi", &chi, 0.8, "", "cone cut-off |n.e| > chi for the force pdf", 0, 1, false, true);
