@@ -433,14 +433,19 @@ std::string bottomSensorWords(const BottomSensor& b) {
            " (3 se) of the piston stress on first loading (its ramps and the holds after them)";
 }
 
-/// A fit of the record the later steps start from: the model, the fitter, the options, the noise model
-/// with the likelihood's sample count, and the fitted model's components and parameters.
-struct FitState {
+/// What every fit of the record needs: the model, the fitter, the options, the noise model with the
+/// likelihood's sample count.
+struct FitContext {
     const Model& M;
     const Fitter& F;
     const ExplainOptions& opt;
     const NoiseModel& nm;
     double nLik;
+};
+
+/// A fit of the record the later steps start from (read only): the fitted model's components and
+/// parameters.
+struct FitState : FitContext {
     const std::vector<char>& on;
     const FitResult& cur;
 };
@@ -874,12 +879,7 @@ std::vector<std::size_t> rankCandidates(std::vector<Candidate>& roundC, const Bo
 
 /// The model the selection built (components `on`, fit `cur`, mechanisms `accepted` in the order they
 /// were added), which the checks after the selection may still change, with what they need to refit it.
-struct Selection {
-    const Model& M;
-    const Fitter& F;
-    const ExplainOptions& opt;
-    const NoiseModel& nm;
-    double nLik;
+struct Selection : FitContext {
     std::size_t n;
     const std::vector<int>& nuis;                   ///< the nuisances the selection could use
     const std::vector<std::vector<int>>& dropsOf;  ///< nuisances each accepted mechanism replaced
@@ -1182,7 +1182,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // Jacobian of the current model for the identifiability projection
             const Eigen::MatrixXd J = currentJacobian(M, F, on, cur);
             const auto qr = J.colPivHouseholderQr();
-            const RoundState st{{M, F, opt, nm, nLik, on, cur}, R.bottom, R.nuisances, J, qr, bicCur, round, reachesZeroForce};
+            const RoundState st{{{M, F, opt, nm, nLik}, on, cur}, R.bottom, R.nuisances, J, qr, bicCur, round, reachesZeroForce};
             roundC.clear();
             std::vector<int> todo;
             for (int c : cands)
@@ -1291,7 +1291,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         if (ambiguous) break;
     }
 
-    Selection sel{M, F, opt, nm, nLik, n, nuis, dropsOf, on, cur, accepted};
+    Selection sel{{M, F, opt, nm, nLik}, n, nuis, dropsOf, on, cur, accepted};
     if (accepted.size() > 1 && !opt.forceBest) dropRedundantMechanisms(sel, R);
     if (!accepted.empty() && !opt.forceBest) addBackNuisances(sel, R);
     const std::vector<double> inclusion = inclusionProbabilities(sel, R);
@@ -1306,7 +1306,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
         for (std::size_t i = 0; i < n; ++i) rf[i] = y[i] - cur.model[i];
         R.pNoiseFinal = blockChiSquarePValue(rf, nm, F.nFree(on));
     }
-    const FinalState fs{{M, F, opt, nm, nLik, on, cur}, rec, proto, recPhases, nuis, accepted};
+    const FinalState fs{{{M, F, opt, nm, nLik}, on, cur}, rec, proto, recPhases, nuis, accepted};
     locateMismatch(fs, r0, R);
     const double excess = rssBase - double(n) * sigma2;
     double rssFinal = 0;
