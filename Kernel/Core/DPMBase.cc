@@ -44,6 +44,13 @@ DPMBase::~DPMBase() = default;
 
 void DPMBase::setContactLaw(const std::string& name) {
     if (params_.wasSetOnCommandLine("contact_law")) return;  // --contact_law wins over the driver's choice
+    if (stateLoaded_ && name != lawName_) {
+        // a state loaded with readRestart(path, true) under another law: its contact histories and
+        // stored forces belong to that law, so every contact starts afresh and the forces are
+        // evaluated at t = 0
+        neighbours_.dropHistories();
+        stateLoaded_ = false;
+    }
     params_.set("contact_law", name);
     law_ = makeContactLaw(name);
     neighbours_.invalidate();

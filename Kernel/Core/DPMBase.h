@@ -75,6 +75,8 @@ public:
 
     void setContactLaw(const std::string& name);
     const ContactLaw& contactLaw() const { return *law_; }
+    /// The neighbour list (pairs and their contact histories), read only: for analysis and tests.
+    const NeighbourList& neighbourList() const { return neighbours_; }
     int addSpecies(const std::string& name, double density, const ContactParameters& self);
     void setPairParameters(int a, int b, const ContactParameters& p) { species_.setPair(a, b, p); }
     /// Add a sphere of the given species (mass from the species density). Returns its index.

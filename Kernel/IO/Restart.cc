@@ -259,7 +259,7 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     if (stateOnly) {  // a new experiment: its clock starts at zero
         time_ = 0;
         step_ = 0;
-        stateLoaded_ = true;
+        stateLoaded_ = !ownLaw;  // the stored forces are the file's law's: under another, evaluate anew
         return;
     }
     loadDriverState(kv);

@@ -205,13 +205,23 @@ TEST(KernelRestart, WriteAndReadRestartRoundTripsTheState) {
 // step 51 of a straight run up to the summation order of the rebuilt neighbour list, far closer
 // than the step's own velocity change (dropping the springs would change the frictional forces by
 // their full size).
+// With `switchTo` the driver itself switches the law after the read (setContactLaw), as an element
+// test does by its material flags. historiesAfterRead / historiesAfterSwitch: the history values the
+// neighbour list holds at those two points.
 class StateOnlyStart : public PackingDriver {
 public:
-    StateOnlyStart(const std::string& file) : PackingDriver(6, 5, 5, true), file_(file) {}
+    StateOnlyStart(const std::string& file, std::string switchTo = "")
+        : PackingDriver(6, 5, 5, true), file_(file), switchTo_(std::move(switchTo)) {}
+    std::size_t historiesAfterRead = 0, historiesAfterSwitch = 0;
 
 protected:
     void setupInitialConditions() override {
         readRestart(file_, true);
+        historiesAfterRead = historiesAfterSwitch = neighbourList().history.size();
+        if (!switchTo_.empty()) {
+            setContactLaw(switchTo_);
+            historiesAfterSwitch = neighbourList().history.size();
+        }
         EXPECT_EQ(time(), 0.0);
         EXPECT_EQ(step(), 0);
         setTimeStep(suggestedTimeStep());
@@ -219,7 +229,7 @@ protected:
     }
 
 private:
-    std::string file_;
+    std::string file_, switchTo_;
 };
 
 /// Two overlapping spheres sliding past each other (no gravity, high friction, no tangential dashpot):
@@ -281,9 +291,11 @@ struct StateOnlyStep {
     double stepChange = 0, diff = 0;
     long frictionalAtRestart = 0;
     std::string law;
+    std::size_t historiesAfterRead = 0, historiesAfterSwitch = 0;
     int rc = -1;
 };
-StateOnlyStep stateOnlyStepAgainstStraight(const std::string& dir, const std::vector<std::string>& extra) {
+StateOnlyStep stateOnlyStepAgainstStraight(const std::string& dir, const std::vector<std::string>& extra,
+                                           const std::string& switchTo = "") {
     std::filesystem::remove_all(dir);
     StateOnlyStep out;
     PackingDriver a(6, 5, 5, true);
@@ -291,7 +303,7 @@ StateOnlyStep stateOnlyStepAgainstStraight(const std::string& dir, const std::ve
     if (runWith(a, {"--output", dir, "--quiet", "--name", "a", "--steps", "50"}) != 0 ||
         runWith(straight, {"--output", dir, "--quiet", "--name", "straight", "--steps", "51"}) != 0)
         return out;
-    StateOnlyStart b(dir + "/a.restart");
+    StateOnlyStart b(dir + "/a.restart", switchTo);
     std::vector<std::string> args = {"--output", dir, "--quiet", "--name", "b", "--steps", "1"};
     args.insert(args.end(), extra.begin(), extra.end());
     out.rc = runWith(b, args);
@@ -303,6 +315,8 @@ StateOnlyStep stateOnlyStepAgainstStraight(const std::string& dir, const std::ve
     }
     out.frictionalAtRestart = frictionalContacts(a);
     out.law = b.parameters().get("contact_law");
+    out.historiesAfterRead = b.historiesAfterRead;
+    out.historiesAfterSwitch = b.historiesAfterSwitch;
     return out;
 }
 } // namespace
@@ -315,6 +329,7 @@ TEST(KernelRestart, StateOnlyReadKeepsContactHistoriesAndRestartsTheClock) {
     EXPECT_GT(r.stepChange, 0.0);
     EXPECT_LT(r.diff, 1e-6 * r.stepChange);
     EXPECT_GT(r.frictionalAtRestart, 50);
+    EXPECT_GT(r.historiesAfterRead, 0u);
     std::filesystem::remove_all("KernelRestartStateOnly");
 }
 
@@ -327,6 +342,7 @@ TEST(KernelRestart, StateOnlyReadWithAnotherLawDropsTheHistories) {
     const StateOnlyStep r = stateOnlyStepAgainstStraight(dir, {"--contact_law", "linear-relax"});
     ASSERT_EQ(r.rc, 0);
     EXPECT_EQ(r.law, "linear-relax");
+    EXPECT_EQ(r.historiesAfterRead, 0u);
     std::printf("state-only start under another law: max |dv| against the straight run %.3e m/s (one step: %.3e m/s)\n",
                 r.diff, r.stepChange);
     EXPECT_GT(r.diff, 1e-3 * r.stepChange);
@@ -335,6 +351,26 @@ TEST(KernelRestart, StateOnlyReadWithAnotherLawDropsTheHistories) {
                                 "--contact_law", "linear-relax"}),
               2);
     std::filesystem::remove_all(dir);
+}
+
+// The same when the driver switches the law after the read (setContactLaw, as ElementTest does by
+// --mu): the histories go, and the forces are evaluated anew at t = 0; switching to the file's own
+// law keeps them.
+TEST(KernelRestart, StateOnlyReadThenDriverSwitchesTheLaw) {
+    const StateOnlyStep other = stateOnlyStepAgainstStraight("KernelRestartSwitch", {}, "linear-rolling");
+    ASSERT_EQ(other.rc, 0);
+    EXPECT_EQ(other.law, "linear-rolling");
+    EXPECT_GT(other.historiesAfterRead, 0u);
+    EXPECT_EQ(other.historiesAfterSwitch, 0u);
+    EXPECT_GT(other.diff, 1e-3 * other.stepChange);
+    const StateOnlyStep same = stateOnlyStepAgainstStraight("KernelRestartSwitch", {}, "linear");
+    ASSERT_EQ(same.rc, 0);
+    EXPECT_EQ(same.historiesAfterSwitch, same.historiesAfterRead);
+    EXPECT_LT(same.diff, 1e-6 * same.stepChange);
+    std::printf("driver switches the law after a state-only read: max |dv| %.3e m/s (linear-rolling), %.3e m/s "
+                "(linear, the file's), one step %.3e m/s\n",
+                other.diff, same.diff, same.stepChange);
+    std::filesystem::remove_all("KernelRestartSwitch");
 }
 
 TEST(KernelThreads, OneAndTwoThreadsAreBitwiseIdentical) {

@@ -222,8 +222,19 @@ TEST(Parameters, SetDefaultChangesValueHelpAndReset) {
     EXPECT_EQ(t, 7.0);
     std::ostringstream os;
     p.printHelp(os, "P", "");
-    EXPECT_TRUE(contains(os.str(), "0.3")) << os.str();
-    EXPECT_TRUE(contains(os.str(), "luding")) << os.str();
+    // the default column of each row: "--time_max  0.3", "--law  luding"
+    const auto defaultOf = [&](const std::string& flag) {
+        std::istringstream rows(os.str());
+        std::string line;
+        while (std::getline(rows, line)) {
+            std::istringstream w(line);
+            std::string f, d;
+            if (w >> f >> d && f == flag) return d;
+        }
+        return std::string();
+    };
+    EXPECT_EQ(defaultOf("--time_max"), "0.3") << os.str();
+    EXPECT_EQ(defaultOf("--law"), "luding") << os.str();
     EXPECT_FALSE(contains(os.str(), " 7 ")) << os.str();
     p.resetToDefaults();
     EXPECT_EQ(t, 0.3);

@@ -41,6 +41,9 @@ TEST(Recording, ProblemsCarryLineNumbers) {
     EXPECT_EQ(lineOf("axial_stress_Pa\n1\n", "missing required column 'time_s'"), 1);
     EXPECT_EQ(lineOf("time_s,step\n0,0\n", "no measured channel"), 1);
     EXPECT_EQ(lineOf("# c\ntime_s,axial_stress_kPa\n0,1\n", "wrong unit"), 2);
+    EXPECT_EQ(lineOf("time_ms,axial_stress_Pa\n0,1\n", "wrong unit"), 1);
+    // a base name followed by something that is not a unit is an extra channel, not a wrong unit
+    EXPECT_TRUE(checkRecording("time_s,time_stamp,axial_stress_Pa,axial_stress_Pa_raw\n0,5,1,1\n").empty());
     EXPECT_EQ(lineOf("time_s,axial_stress_Pa\n0,1\n1,nan\n", "not a finite number"), 3);
     EXPECT_EQ(lineOf("time_s,axial_stress_Pa\n0,1\n1,\n", "empty value"), 3);
     EXPECT_EQ(lineOf("time_s,axial_stress_Pa\n0,1\n2,1\n\n1,1\n", "not strictly increasing"), 5);

@@ -15,7 +15,10 @@ For each restart file it prints one line:
     l = 6; d6 = q6(i).q6*(j) / |q6(i)||q6(j)|, computed through the addition theorem as sums of
     Legendre P6 of neighbour-direction dot products, so no complex harmonics are needed),
   P(theta) of the contacts (overlap > 0) in nine 10-degree bins of theta folded into [0, 90] deg,
-    normalised so that an isotropic distribution gives 1 in every bin (the thesis' phi/(dtheta sin)).
+    normalised so that an isotropic distribution gives 1 in every bin: phi/(cos theta_i - cos theta_f),
+    twice pdpm-polar's P(theta) = phi/(2 dtheta sin theta), whose isotropic value is 1/2.
+A particle needs 12 neighbours in its 27 cells for the bond order; a file with fewer particles, or an
+isolated particle, is refused.
 --fcc N reads no file and checks the measure on a perfect box-aligned FCC crystal of 4 N^3 spheres
 instead (crystalline fraction 1, P(theta) only in the 40-50 and 80-90 degree bins).
 
@@ -34,10 +37,12 @@ def fail(message):
 def read_restart(path):
     """Box lengths, periodic flags and (x, y, z, r) of every particle."""
     try:
-        with open(path) as f:
+        with open(path, encoding="utf-8") as f:
             lines = f.read().split("\n")
     except OSError as e:
         fail(f"{path}: {e.strerror}")
+    except UnicodeDecodeError:
+        fail(f"{path}: not a PowderDPM restart file (not text)")
     if not lines or not lines[0].startswith("PowderDPM-restart"):
         fail(f"{path}: not a PowderDPM restart file (first line '{lines[0][:40] if lines else ''}')")
     box = None
@@ -64,6 +69,8 @@ def read_restart(path):
                 n = int(w[1])
             except ValueError:
                 fail(f"{path}: malformed particle count '{w[1]}'")
+            if n < 13:
+                fail(f"{path}: {n} particles; the bond order needs at least 13")
             if k + n >= len(lines):
                 fail(f"{path}: truncated particle section ({n} particles announced)")
             parts = []
@@ -140,6 +147,8 @@ def analyse(box, parts):
                         if j > i and dist < p[3] + parts[j][3]:
                             contacts.append(u)
         cand.sort()
+        if len(cand) < 12:
+            fail(f"particle {i} has {len(cand)} neighbours within {cut:.3g} (12 needed): too sparse a packing")
         neigh.append([(j, u) for _, j, u in cand[:12]])
     # q6 norms through the addition theorem: |q6(i)|^2 ~ (1/N_i^2) sum_ab P6(u_a . u_b)
     norm = []
@@ -190,10 +199,10 @@ def main():
             if path.startswith("--"):
                 fail(f"unknown flag {path}")
             runs.append((path, *read_restart(path)))
+    results = [(name, *analyse(box, parts)) for name, box, parts in runs]  # every file checked before output
     print("file,N,volume_fraction,contacts_per_particle,crystalline_fraction," +
           ",".join(f"P_{10 * b}_{10 * b + 10}deg" for b in range(9)))
-    for name, box, parts in runs:
-        n, v, c, x, P = analyse(box, parts)
+    for name, n, v, c, x, P in results:
         print(f"{name},{n},{v:.4f},{c:.3f},{x:.4f}," + ",".join(f"{p:.3f}" for p in P))
 
 

@@ -220,7 +220,8 @@ std::vector<std::vector<double>> selectRows(const CsvTable& t, BranchSelect b, d
                     top = std::max(top, r[ezz]);
                     end = r[ezz];
                 }
-            unloading = !first && top > start && top - end > 0.1 * (top - start);
+            // any turn back: a cycle cut short just past tau = 0.5 has reversed by 0.1 % of its strain
+            unloading = !first && top > start && top - end > 1e-6 * (top - start);
         }
         b = unloading ? BranchSelect::Unloading : BranchSelect::Test;
     }

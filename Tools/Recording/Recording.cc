@@ -64,8 +64,13 @@ std::string wrongUnit(const std::string& name) {
         {"piston_position_", "piston_position_m"},
         {"dem_time_", "dem_time_s"},
     };
+    // only a unit after the base counts: "time_stamp" or "axial_stress_Pa_raw" are extra channels
+    static const std::vector<std::string> units = {"s", "ms", "us", "ns", "min", "h", "hr", "Pa", "hPa", "kPa", "MPa", "GPa",
+                                                   "bar", "mbar", "psi", "N", "kN", "m", "cm", "mm", "um", "percent", "pct"};
     for (const auto& [b, want] : bases)
-        if (name.rfind(b, 0) == 0 && name != want) return want;
+        if (name.rfind(b, 0) == 0 && name != want &&
+            std::find(units.begin(), units.end(), name.substr(b.size())) != units.end())
+            return want;
     if (name == "axial_strain_percent" || name == "volume_fraction_percent" || name == "axial_strain_pct")
         return name.substr(0, name.find("_p"));
     if (name == "time" || name == "axial_stress" || name == "lateral_stress" || name == "bottom_stress" ||
