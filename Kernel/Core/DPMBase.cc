@@ -44,16 +44,20 @@ DPMBase::~DPMBase() = default;
 
 void DPMBase::setContactLaw(const std::string& name) {
     if (params_.wasSetOnCommandLine("contact_law")) return;  // --contact_law wins over the driver's choice
-    if (stateLoaded_ && name != lawName_) {
-        // a state loaded with readRestart(path, true) under another law: its contact histories and
-        // stored forces belong to that law, so every contact starts afresh and the forces are
-        // evaluated at t = 0
-        neighbours_.dropHistories();
-        stateLoaded_ = false;
-    }
+    if (stateLoaded_ && name != lawName_) discardLoadedContacts();
     params_.set("contact_law", name);
     law_ = makeContactLaw(name);
     neighbours_.invalidate();
+}
+
+// The one rule for a state loaded with readRestart(path, true) that is run under another contact law
+// than the file's (--contact_law, or a driver's setContactLaw): the file's contact histories and
+// stored forces belong to the file's law, so every contact starts afresh (the first neighbour build
+// finds the pairs with zero history) and the forces are evaluated at t = 0 like a fresh start.
+// Resuming a run (readRestart(path, false)) under another law is refused in readRestart.
+void DPMBase::discardLoadedContacts() {
+    neighbours_.dropHistories();
+    stateLoaded_ = false;
 }
 
 int DPMBase::addSpecies(const std::string& name, double density, const ContactParameters& self) {

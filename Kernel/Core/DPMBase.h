@@ -181,6 +181,8 @@ protected:
 
 private:
     void prepare(bool freshStart);
+    /// A loaded state is run under another law than its file's: drop its histories and stored forces.
+    void discardLoadedContacts();
     /// Pair, wall and additional forces at the current state. `historyDt` is the time over which the
     /// incremental histories (tangential, rolling and torsion springs, relaxation clocks) advance:
     /// dt_ in the time loop, 0 for the evaluation of a fresh start at t = 0 (no time has passed yet).

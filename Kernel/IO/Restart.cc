@@ -138,8 +138,8 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     expect(is, "law", path);
     is >> lawName >> hsize;
     // Resuming needs the file's law. A new experiment from the file's state (stateOnly) may name
-    // another one with --contact_law: it is kept, and the file's contact histories, which belong to
-    // the file's law, are dropped (the first neighbour build starts every contact afresh).
+    // another one with --contact_law: it is kept, and the file's contact histories and stored forces,
+    // which belong to the file's law, are discarded (DPMBase::discardLoadedContacts, the one rule).
     const bool ownLaw = params_.wasSetOnCommandLine("contact_law") && lawName_ != lawName;
     if (ownLaw && !stateOnly)
         inputError("restart file " + path + " uses contact law '" + lawName + "' but --contact_law is '" + lawName_ + "'");
@@ -245,7 +245,6 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         particles_.t[k] = t;
     }
     neighbours_.read(is, n, nw);
-    if (ownLaw) neighbours_.dropHistories();
     std::size_t nkv = 0;
     expect(is, "driver", path);
     is >> nkv;
@@ -259,7 +258,8 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     if (stateOnly) {  // a new experiment: its clock starts at zero
         time_ = 0;
         step_ = 0;
-        stateLoaded_ = !ownLaw;  // the stored forces are the file's law's: under another, evaluate anew
+        stateLoaded_ = true;
+        if (ownLaw) discardLoadedContacts();  // ownLaw implies stateOnly (refused above otherwise)
         return;
     }
     loadDriverState(kv);

@@ -102,6 +102,10 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
     // ends the run with its line number
     const recording::Recording tab = recording::readRecording(path);
     const auto has = [&](const char* name) { return tab.column(name) >= 0; };
+    // a sample's position in the file, as the checker reports it ("PATH:LINE: ...")
+    const auto at = [&](std::size_t i) {
+        return path + ":" + std::to_string(i < tab.rowLines.size() ? tab.rowLines[i] : long(i) + 1) + ": ";
+    };
     Recording r;
     r.source = path;
     if (tab.rows.size() < 20) inputError(path + ": " + std::to_string(tab.rows.size()) + " samples; at least 20 are needed");
@@ -120,16 +124,18 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
     } else {
         inputError(path + ": pdpm-explain needs a control channel: axial_strain or piston_position_m");
     }
-    for (double e : r.strain)
-        if (std::abs(e) >= 1) inputError(path + ": axial strain " + std::to_string(e) + " is not in (-1, 1)");
+    for (std::size_t i = 0; i < r.strain.size(); ++i)
+        if (!(std::abs(r.strain[i]) < 1))
+            inputError(at(i) + "axial strain " + formatDoubleShort(r.strain[i]) + " (from " + r.strainSource +
+                       ") is not in (-1, 1)");
     if (has("lateral_stress_Pa")) r.lateral = tab.values("lateral_stress_Pa");
     if (has("bottom_stress_Pa")) r.bottom = tab.values("bottom_stress_Pa");
     if (has("step")) {
         const std::vector<double> st = tab.values("step");
         for (std::size_t i = 0; i < st.size(); ++i) {
             if (!(st[i] >= 0) || st[i] != std::floor(st[i]) || st[i] >= double(std::max<std::size_t>(proto.steps.size(), 1)))
-                inputError(path + ": step " + std::to_string(st[i]) + " (sample " + std::to_string(i + 1) +
-                           ") is not a step of the protocol (" + std::to_string(proto.steps.size()) + " steps)");
+                inputError(at(i) + "step " + formatDoubleShort(st[i]) + " is not a step of the protocol (" +
+                           std::to_string(proto.steps.size()) + " steps)");
             r.step.push_back(static_cast<int>(st[i]));
         }
     }
@@ -137,8 +143,8 @@ Recording readRecording(const std::string& path, const Protocol& proto) {
     const auto bounded = [&](const std::vector<double>& col, const char* name, double limit, const char* unit) {
         for (std::size_t i = 0; i < col.size(); ++i)
             if (!(std::abs(col[i]) <= limit))
-                inputError(path + ": " + name + " " + formatDoubleShort(col[i]) + " (sample " + std::to_string(i + 1) +
-                           ") is beyond +-" + formatDoubleShort(limit) + " " + unit);
+                inputError(at(i) + name + " " + formatDoubleShort(col[i]) + " is beyond +-" + formatDoubleShort(limit) +
+                           " " + unit);
     };
     bounded(r.t, "time_s", 1e12, "s");
     bounded(r.stress, "axial_stress_Pa", 1e12, "Pa");

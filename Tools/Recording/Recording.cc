@@ -199,6 +199,7 @@ std::vector<Problem> checkRecording(const std::string& text, Recording* out) {
             if (row[static_cast<std::size_t>(c)] < 0)
                 problem(lineNo, "column '" + rec.columns[static_cast<std::size_t>(c)] + "' must be >= 0");
         rec.rows.push_back(std::move(row));
+        rec.rowLines.push_back(lineNo);
     }
     if (!haveHeader) problem(0, "no header line (file empty or only comments)");
     else if (rec.rows.empty() && problems.empty()) problem(lineNo, "no data rows");

@@ -25,6 +25,7 @@ struct Recording {
     std::vector<std::string> comments;  ///< comment lines without the leading "# "
     std::vector<std::string> columns;
     std::vector<std::vector<double>> rows;
+    std::vector<long> rowLines;  ///< 1-based line in the file of each row (filled by checkRecording)
 
     int column(const std::string& name) const;  ///< -1 if absent
     std::vector<double> values(const std::string& name) const;  ///< InputError if absent
