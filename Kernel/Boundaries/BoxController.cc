@@ -206,7 +206,7 @@ void BoxController::save(std::vector<std::pair<std::string, std::string>>& kv, c
 void BoxController::load(const std::vector<std::pair<std::string, std::string>>& kv, const std::string& prefix) {
     auto num = [](const std::string& k, const std::string& v) {
         double x = 0;
-        if (!parseDouble(v, x)) inputError("restart: malformed box controller value for " + k);
+        if (!parseDouble(v, x) || !std::isfinite(x)) inputError("restart: malformed box controller value for " + k);
         return x;
     };
     for (const auto& [k, v] : kv) {
@@ -222,7 +222,10 @@ void BoxController::load(const std::vector<std::pair<std::string, std::string>>&
             AxisControl& c = axes_[rest[0] - '0'];
             const std::string f = rest.substr(2);
             if (f == "mode") c.mode = modeFromName(v);
-            else if (f == "affine") c.affine = v == "1";
+            else if (f == "affine") {
+                if (v != "0" && v != "1") inputError("restart: malformed box controller value for " + k + " (0 or 1)");
+                c.affine = v == "1";
+            }
             else if (f == "l0") c.lengthStart = num(k, v);
             else if (f == "lf") c.lengthFinal = num(k, v);
             else if (f == "period") c.period = num(k, v);
@@ -233,6 +236,15 @@ void BoxController::load(const std::vector<std::pair<std::string, std::string>>&
             else if (f == "damping") c.wallDamping = num(k, v);
             else if (f == "velocity") c.wallVelocity = num(k, v);
         }
+    }
+    // what the setters require of each mode, for a file edited after it was sealed
+    for (int a = 0; a < 3; ++a) {
+        const AxisControl& c = axes_[a];
+        const std::string p = "restart: box controller axis " + std::to_string(a) + ": ";
+        if (c.mode == AxisMode::Cosine && (!(c.lengthStart > 0) || !(c.lengthFinal > 0) || !(c.period > 0)))
+            inputError(p + "cosine lengths and period must be positive");
+        if (c.mode == AxisMode::Stress && (!(c.wallMass > 0) || !(c.wallDamping >= 0)))
+            inputError(p + "virtual wall mass must be positive and damping non-negative");
     }
 }
 

@@ -117,11 +117,6 @@ bool parseBool(const std::string& text, bool& out) {
     return false;
 }
 
-bool isBoolLiteral(const std::string& text) {
-    bool dummy;
-    return parseBool(text, dummy);
-}
-
 } // namespace
 
 bool parseStrictDouble(const std::string& text, double& out) { return strictDouble(text, out); }
@@ -482,7 +477,9 @@ CommonOptions parseCommandLine(const std::vector<std::string>& args, ParameterSe
         const bool isBoolFlag = name == "quiet" || (!isCommon && params.isBool(name));
         if (!haveValue) {
             if (isBoolFlag) {
-                if (i + 1 < args.size() && isBoolLiteral(args[i + 1])) value = args[++i];
+                // a bare flag means 1; a following word that is not a flag is its value, checked
+                // below ("--vtk 2" is an out-of-range value, not a stray argument)
+                if (i + 1 < args.size() && args[i + 1].compare(0, 2, "--") != 0) value = args[++i];
                 else value = "1";
             } else {
                 if (i + 1 >= args.size() || args[i + 1].compare(0, 2, "--") == 0)

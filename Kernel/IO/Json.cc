@@ -293,6 +293,27 @@ private:
         }
         return v;
     }
+    /// Length of the well-formed UTF-8 sequence that starts at byte p (a byte >= 0x80), 0 if there
+    /// is none: no stray continuation byte, no overlong form, no surrogate, nothing above U+10FFFF.
+    std::size_t utf8Length(std::size_t p) const {
+        const auto at = [&](std::size_t k) { return k < t_.size() ? static_cast<unsigned char>(t_[k]) : 0u; };
+        const unsigned c = at(p);
+        const auto cont = [&](std::size_t k) { return (at(k) & 0xC0u) == 0x80u; };
+        if (c >= 0xC2 && c <= 0xDF) return cont(p + 1) ? 2 : 0;
+        if (c >= 0xE0 && c <= 0xEF) {
+            const unsigned c1 = at(p + 1);
+            if (!cont(p + 1) || !cont(p + 2)) return 0;
+            if ((c == 0xE0 && c1 < 0xA0) || (c == 0xED && c1 > 0x9F)) return 0;  // overlong, surrogate
+            return 3;
+        }
+        if (c >= 0xF0 && c <= 0xF4) {
+            const unsigned c1 = at(p + 1);
+            if (!cont(p + 1) || !cont(p + 2) || !cont(p + 3)) return 0;
+            if ((c == 0xF0 && c1 < 0x90) || (c == 0xF4 && c1 > 0x8F)) return 0;  // overlong, > U+10FFFF
+            return 4;
+        }
+        return 0;
+    }
     static void utf8(std::string& out, unsigned cp) {
         if (cp < 0x80) out += static_cast<char>(cp);
         else if (cp < 0x800) { out += static_cast<char>(0xC0 | (cp >> 6)); out += static_cast<char>(0x80 | (cp & 0x3F)); }
@@ -315,6 +336,13 @@ private:
             const unsigned char c = static_cast<unsigned char>(t_[pos_]);
             if (c == '"') { ++pos_; return out; }
             if (c < 0x20) fail("control character in a string (escape it)");
+            if (c >= 0x80) {  // a multi-byte UTF-8 sequence (JSON text is UTF-8, RFC 8259), copied whole
+                const std::size_t n = utf8Length(pos_);
+                if (n == 0) fail("invalid UTF-8 byte in a string");
+                out.append(t_, pos_, n);
+                pos_ += n;
+                continue;
+            }
             if (c != '\\') { out += static_cast<char>(c); ++pos_; continue; }
             ++pos_;
             if (pos_ >= t_.size()) fail("unterminated escape");

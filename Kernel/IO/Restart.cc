@@ -118,9 +118,17 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     if (text.rfind(kMagic, 0) != 0) inputError("restart file " + path + ": not a PowderDPM restart file (bad header)");
     if (endPos == std::string::npos) inputError("restart file " + path + ": truncated (no end line)");
     const std::string body = text.substr(0, endPos + 1);
-    uint64_t stored = 0;
-    if (std::sscanf(text.c_str() + endPos + 5, "%" SCNx64, &stored) != 1 || stored != fnv1a(body))
+    // The end line is exactly what the writer wrote (a missing final newline aside): nothing may
+    // follow the checksum, on its line or after it.
+    const std::string tail = text.substr(endPos + 1), want = restartChecksumLine(body);
+    if (tail != want && tail + "\n" != want) {
+        uint64_t stored = 0;
+        if (tail.compare(0, want.size() - 1, want, 0, want.size() - 1) == 0)
+            inputError("restart file " + path + ": text after the checksum (file appended to or corrupt)");
+        if (std::sscanf(tail.c_str() + 4, "%" SCNx64, &stored) == 1 && stored == fnv1a(body))
+            inputError("restart file " + path + ": malformed end line (expected 'end' and 16 lower-case hex digits)");
         inputError("restart file " + path + ": checksum mismatch (file corrupt or edited)");
+    }
 
     std::istringstream is(body);
     std::string magic;
@@ -237,7 +245,8 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         const double r = readDouble(is);
         int s = 0, fixed = 0;
         is >> s >> fixed;
-        if (!is || s < 0 || s >= ns || !(r > 0) || !std::isfinite(r) || !isFinite(x) || !isFinite(v) || !isFinite(w) ||
+        if (!is || s < 0 || s >= ns || (fixed != 0 && fixed != 1) || !(r > 0) || !std::isfinite(r) || !isFinite(x) ||
+            !isFinite(v) || !isFinite(w) ||
             !isFinite(f) || !isFinite(t))
             inputError("restart file " + path + ": malformed particle record " + std::to_string(i));
         const std::size_t k = particles_.add(x, r, species_[s].density, s, v, w, fixed != 0);

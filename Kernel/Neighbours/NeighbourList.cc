@@ -367,42 +367,55 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
         lk.clear();
         li.reserve(expectPerSlab);
         lj.reserve(expectPerSlab);
+        // Private copies: in the outlined parallel loop, shared variables are reached through
+        // pointers, and every push_back would make the compiler reload them.
+        const MinimumImage im = img;
+        const double sk = skin;
+        const uint32_t* __restrict cs = cellStart_.data();
+        const uint32_t* __restrict cl = cellList_.data();
+        std::size_t stencil[18];
         for (int cb = 0; cb < nc[sb]; ++cb)
             for (int cc = 0; cc < nc[sc]; ++cc) {
                 const std::size_t c = cellIndex(s, cb, cc);
-                for (uint32_t ki = cellStart_[c]; ki < cellStart_[c + 1]; ++ki) {
-                    const uint32_t i = cellList_[ki];
+                if (cs[c] == cs[c + 1]) continue;
+                // Half stencil of this cell, once for all its particles, in the order the particles
+                // visit it: this slab layer with the 2D half stencil (own cell: j > i), then the full
+                // 3x3 block of the next slab. Every pair is found once, from the particle in the lower
+                // slab, so it lands in that slab's list.
+                int ns = 0;
+                for (int da = 0; da <= 1; ++da) {
+                    if (da == 1 && nSlab == 1) break;
+                    int ca = s + da;
+                    if (ca >= nSlab) { if (!perSlab) break; ca -= nSlab; }
+                    for (int db = -1; db <= 1; ++db) {
+                        if (nc[sb] == 1 && db != 0) continue;
+                        for (int dc = -1; dc <= 1; ++dc) {
+                            if (nc[sc] == 1 && dc != 0) continue;
+                            // in-layer half stencil: (0,0) own cell, (0,1), (1,-1), (1,0), (1,1)
+                            if (da == 0 && (db < 0 || (db == 0 && dc < 0))) continue;
+                            int cb2 = cb + db;
+                            if (cb2 < 0 || cb2 >= nc[sb]) { if (!box.periodic(sb)) continue; cb2 = (cb2 + nc[sb]) % nc[sb]; }
+                            int cc2 = cc + dc;
+                            if (cc2 < 0 || cc2 >= nc[sc]) { if (!box.periodic(sc)) continue; cc2 = (cc2 + nc[sc]) % nc[sc]; }
+                            stencil[ns++] = cellIndex(ca, cb2, cc2);
+                        }
+                    }
+                }
+                for (uint32_t ki = cs[c]; ki < cs[c + 1]; ++ki) {
+                    const uint32_t i = cl[ki];
                     const Vec3 xi = x[i];
                     const double ri = r[i];
-                    // Half stencil: this slab layer with the 2D half stencil (own cell: j > i), and
-                    // the full 3x3 block of the next slab. Every pair is found once, from the particle
-                    // in the lower slab, so it lands in that slab's list.
-                    for (int da = 0; da <= 1; ++da) {
-                        if (da == 1 && nSlab == 1) break;
-                        int ca = s + da;
-                        if (ca >= nSlab) { if (!perSlab) break; ca -= nSlab; }
-                        for (int db = -1; db <= 1; ++db) {
-                            if (nc[sb] == 1 && db != 0) continue;
-                            for (int dc = -1; dc <= 1; ++dc) {
-                                if (nc[sc] == 1 && dc != 0) continue;
-                                // in-layer half stencil: (0,0) own cell, (0,1), (1,-1), (1,0), (1,1)
-                                if (da == 0 && (db < 0 || (db == 0 && dc < 0))) continue;
-                                int cb2 = cb + db;
-                                if (cb2 < 0 || cb2 >= nc[sb]) { if (!box.periodic(sb)) continue; cb2 = (cb2 + nc[sb]) % nc[sb]; }
-                                int cc2 = cc + dc;
-                                if (cc2 < 0 || cc2 >= nc[sc]) { if (!box.periodic(sc)) continue; cc2 = (cc2 + nc[sc]) % nc[sc]; }
-                                const std::size_t c2 = cellIndex(ca, cb2, cc2);
-                                const bool sameCell = c2 == c;
-                                for (uint32_t kj = sameCell ? ki + 1 : cellStart_[c2]; kj < cellStart_[c2 + 1]; ++kj) {
-                                    const uint32_t j = cellList_[kj];
-                                    double dx = xi.x - x[j].x, dy = xi.y - x[j].y, dz = xi.z - x[j].z;
-                                    img.apply(dx, dy, dz);
-                                    const double rc = ri + r[j] + skin;
-                                    if (dx * dx + dy * dy + dz * dz < rc * rc) {
-                                        li.push_back(std::min(i, j));
-                                        lj.push_back(std::max(i, j));
-                                    }
-                                }
+                    for (int q = 0; q < ns; ++q) {
+                        const std::size_t c2 = stencil[q];
+                        const uint32_t kEnd = cs[c2 + 1];
+                        for (uint32_t kj = c2 == c ? ki + 1 : cs[c2]; kj < kEnd; ++kj) {
+                            const uint32_t j = cl[kj];
+                            double dx = xi.x - x[j].x, dy = xi.y - x[j].y, dz = xi.z - x[j].z;
+                            im.apply(dx, dy, dz);
+                            const double rc = ri + r[j] + sk;  // the same sum as before: same lists
+                            if (dx * dx + dy * dy + dz * dz < rc * rc) {
+                                li.push_back(std::min(i, j));
+                                lj.push_back(std::max(i, j));
                             }
                         }
                     }

@@ -74,6 +74,9 @@ void PlaneWall::writeGeometry(std::ostream& os) const { os << fmt(point_) << ' '
 void PlaneWall::readGeometry(std::istream& is) {
     point_ = readVec3(is);
     normal_ = readVec3(is);
+    // written as a unit vector; an edited file may hold anything
+    if (is && (!isFinite(point_) || !isFinite(normal_) || !(std::fabs(norm(normal_) - 1) < 1e-9)))
+        inputError("restart: invalid plane wall (point must be finite, normal a unit vector)");
 }
 
 void PlaneWall::mesh(const Vec3& lo, const Vec3& hi, WallMesh& out) const {
@@ -135,6 +138,9 @@ void CylinderWall::readGeometry(std::istream& is) {
     radius_ = readDouble(is);
     length_ = readDouble(is);
     spin = readDouble(is);
+    if (is && (!isFinite(base_) || !isFinite(axis_) || !(std::fabs(norm(axis_) - 1) < 1e-9) || !(radius_ > 0) ||
+               !std::isfinite(radius_) || std::isnan(length_) || !std::isfinite(spin)))
+        inputError("restart: invalid cylinder wall (base finite, axis a unit vector, radius > 0, spin finite)");
 }
 
 void CylinderWall::mesh(const Vec3& lo, const Vec3& hi, WallMesh& out) const {

@@ -105,6 +105,14 @@ expect_refused 'OtherDriver' --restart foreign.restart
 
 expect_refused 'contact.law' --restart out/good.restart --contact_law hertz
 
+# nothing may follow the checksum: a line appended, or text after the hash on its line
+cp out/good.restart appended.restart
+echo "garbage line" >> appended.restart
+expect_refused 'after the checksum' --restart appended.restart
+cp out/good.restart end_suffix.restart
+sed -i '$ s/$/XYZ/' end_suffix.restart
+expect_refused 'after the checksum' --restart end_suffix.restart
+
 # edited values behind a valid (resealed) checksum: refused by name, not run
 # resealed NAME SED-EXPRESSION: out/good.restart edited by the expression and resealed, as NAME.restart
 resealed() {
@@ -137,6 +145,12 @@ resealed x0_nan '/^x0 /{n;s/^[^ ]*/nan/}'
 expect_refused 'inconsistent neighbour' --restart x0_nan.restart
 resealed velocity_inf '/^particles /{n;s/^\([^ ]* [^ ]* [^ ]*\) [^ ]*/\1 inf/}'
 expect_refused 'particle record 0' --restart velocity_inf.restart
+resealed fixed_two '/^particles /{n;s/ [01]$/ 2/}'
+expect_refused 'particle record 0' --restart fixed_two.restart
+resealed wall_point_nan 's/^plane 0 - [^ ]*/plane 0 - nan/'
+expect_refused 'plane wall' --restart wall_point_nan.restart
+resealed wall_normal_long 's/^\(plane 0 - \([^ ]* \)\{3\}\)\([^ ]*\) \([^ ]*\) \([^ ]*\)/\1 3 4 12/'
+expect_refused 'plane wall' --restart wall_normal_long.restart
 
 # the RUN.fstat output cannot be completed (a directory is in its place): exit 2, no .tmp left
 mkdir -p out/blocked.fstat

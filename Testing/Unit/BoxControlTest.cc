@@ -217,6 +217,20 @@ TEST(BoxControl, SaveLoadRoundTripAndBadInput) {
     EXPECT_THROW(c.setStress(0, 1, 0, 1), InputError);
     EXPECT_THROW(c.setCosine(0, 1, 1, 0, 0), InputError);
     EXPECT_THROW(c.setStrainRate(3, 1), InputError);
+    // a file edited after it was sealed: what the setters refuse, load refuses too
+    const auto edited = [&](const std::string& key, const std::string& value) {
+        auto e = kv;
+        for (auto& [k, v] : e)
+            if (k == key) v = value;
+        BoxController b;
+        b.load(e);
+    };
+    EXPECT_NO_THROW(edited("box_2_affine", "0"));
+    EXPECT_THROW(edited("box_2_affine", "abc"), InputError);
+    EXPECT_THROW(edited("box_2_period", "0"), InputError);
+    EXPECT_THROW(edited("box_2_l0", "-1"), InputError);
+    EXPECT_THROW(edited("box_0_mass", "0"), InputError);
+    EXPECT_THROW(edited("box_1_rate", "nan"), InputError);
 }
 
 // Scaling all three axes in one pass gives bitwise the positions of three one-axis steps to the

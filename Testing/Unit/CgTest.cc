@@ -442,3 +442,102 @@ TEST(CgIoTest, BadInputThrowsInputError) {
     EXPECT_THROW(CoarseGrainer{cfg}, InputError);  // empty grid
     std::filesystem::remove_all(dir);
 }
+
+TEST(CgTest, ContactFieldsAverageOverTheSnapshotsWithContacts) {
+    // a window of two snapshots of the same state, one with its contact block and one without: the
+    // contact stress and fabric are those of the one with contacts, not half of them
+    const double L = 5;
+    const ParticleSnapshot s = randomBox(60, L, true, 21);
+    const ContactSnapshot c = randomContacts(s, L, 1.5, 22);
+    CgConfig cfg;
+    cfg.width = 0.8;
+    cfg.n[0] = 4;
+    cfg.n[1] = 4;
+    cfg.n[2] = 4;
+    const CgResult one = coarseGrain(cfg, s, &c);
+    CoarseGrainer cg(cfg);
+    cg.add(s, &c);
+    cg.add(s, nullptr);
+    const CgResult two = cg.result();
+    EXPECT_EQ(two.snapshots, 2);
+    EXPECT_EQ(two.contactSnapshots, 1);
+    for (std::size_t k = 0; k < one.rho.size(); ++k) {
+        EXPECT_NEAR(two.rho[k], one.rho[k], 1e-12 * one.rho[k]);  // sums over two snapshots: round-off
+        for (int q = 0; q < 9; ++q) EXPECT_EQ(two.contactStress[k][q], one.contactStress[k][q]);
+        for (int q = 0; q < 6; ++q) EXPECT_EQ(two.fabric[k][q], one.fabric[k][q]);
+    }
+}
+
+TEST(CgTest, CylinderCentreIsGivenInAxisOrder) {
+    // axis y: --centre a,b is (x, z). One particle on that axis lies in the innermost radial cell.
+    ParticleSnapshot s;
+    s.boxLo = {0, 0, 0};
+    s.boxHi = {10, 10, 10};
+    s.x = {{2, 5, 7}};
+    s.v = {{0, 0, 0}};
+    s.r = {0.1};
+    s.m = {1};
+    CgConfig cfg;
+    cfg.cylindrical = true;
+    cfg.axis = 1;
+    cfg.width = 0.1;
+    cfg.rmax = 2;
+    cfg.n[0] = 20;
+    cfg.n[2] = 1;
+    cfg.centre[0] = 2;  // x
+    cfg.centre[1] = 7;  // z
+    cfg.centreSet = true;
+    const CgResult r = coarseGrain(cfg, s);
+    std::size_t best = 0;
+    for (std::size_t i = 0; i < std::size_t(r.geom.n[0]); ++i)
+        if (r.rho[r.geom.index(int(i), 0, 0)] > r.rho[r.geom.index(int(best), 0, 0)]) best = i;
+    EXPECT_EQ(best, 0u) << "the particle on the axis must be at r = 0";
+}
+
+TEST(CgTest, KernelThousandsOfPeriodsWideIsRefused) {
+    const ParticleSnapshot s = randomBox(10, 1, true, 3);
+    CgConfig cfg;
+    cfg.n[2] = 4;
+    cfg.width = 1e4;  // 3.24e4 periods of the 1 m box
+    EXPECT_THROW(coarseGrain(cfg, s), InputError);
+    cfg.width = 10;  // 32 periods: summed
+    EXPECT_NO_THROW(coarseGrain(cfg, s));
+    // without periods a kernel of any width is fine: its stencil (2c/h cells) once overflowed an int
+    const ParticleSnapshot w = randomBox(10, 1, false, 3);
+    cfg.width = 1e7;
+    CgResult r;
+    ASSERT_NO_THROW(r = coarseGrain(cfg, w));
+    double mass = 0, m0 = 0;
+    for (double x : r.rho) mass += x * cellVolume(r);
+    for (double m : w.m) m0 += m;
+    EXPECT_NEAR(mass / m0, 1, 1e-9);
+}
+
+TEST(CgIoTest, DuplicatesAndNonPositiveRadiiAreRefused) {
+    if (!haveVtk()) GTEST_SKIP() << "built without VTK";
+    const std::string dir = tmpDir() + "_dup";
+    std::filesystem::create_directories(dir);
+    ParticleSnapshot s = randomBox(20, 5, true, 4);
+    writeVtu(dir + "/run_0000.vtu", s);
+    {
+        std::ofstream pvd(dir + "/run.pvd");
+        pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n"
+               "<DataSet timestep=\"1.5\" part=\"0\" file=\"run_0000.vtu\"/>\n</Collection>\n</VTKFile>\n";
+    }
+    EXPECT_NO_THROW(loadFrames({dir + "/run.pvd"}));
+    EXPECT_THROW(loadFrames({dir + "/run.pvd", dir + "/run_0000.vtu"}), InputError);  // the same snapshot twice
+    ContactSnapshot c = randomContacts(s, 5, 1.5, 5);
+    c.time = s.time;
+    c.step = s.step;
+    writeFstat(dir + "/run.fstat", {c});
+    EXPECT_THROW(loadFrames({dir + "/run.pvd", dir + "/run.fstat", dir + "/run.fstat"}), InputError);
+    s.r[7] = -0.3;
+    writeVtu(dir + "/neg.vtu", s);
+    try {
+        readVtu(dir + "/neg.vtu");
+        ADD_FAILURE() << "a negative radius accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("point 7"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove_all(dir);
+}

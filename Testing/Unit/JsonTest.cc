@@ -69,6 +69,14 @@ TEST(Json, RefusesMalformedWithPosition) {
                             "{\"a\" 1}"}) {
         EXPECT_FALSE(errorOf(bad).empty()) << "accepted: " << bad;
     }
+    // JSON text is UTF-8: a stray byte, a truncated or overlong sequence, an encoded surrogate are refused
+    for (const char* bad : {"\"a\xff\"", "\"\x80\"", "\"\xc3\"", "\"\xc0\xaf\"", "\"\xed\xa0\x80\"",
+                            "\"\xf4\x90\x80\x80\"", "\"\xe2\x82\""}) {
+        EXPECT_NE(errorOf(bad).find("UTF-8"), std::string::npos) << "accepted: " << bad;
+    }
+    // well-formed multi-byte characters pass through unchanged
+    EXPECT_EQ(parseJson("\"\xc2\xb5m \xe2\x80\x94 \xf0\x9f\x98\x80\"", "t.json").asString(),
+              "\xc2\xb5m \xe2\x80\x94 \xf0\x9f\x98\x80");
     std::string deep(300, '[');
     deep += std::string(300, ']');
     EXPECT_NE(errorOf(deep).find("nesting"), std::string::npos);

@@ -133,7 +133,10 @@ TEST(Parameters, BoolFlagsBareOrWithValue) {
     Driver g;
     g.parse({"--fstat=1"});
     EXPECT_TRUE(g.fstat);
-    EXPECT_TRUE(contains(g.errorOf({"--fstat", "yes"}), "unexpected argument 'yes'"));
+    // the word after a bool flag is its value: a wrong one is named as such, not as a stray argument
+    EXPECT_TRUE(contains(g.errorOf({"--fstat", "yes"}), "--fstat: value 'yes' is not a bool"));
+    EXPECT_TRUE(contains(g.errorOf({"--fstat", "2"}), "--fstat: value '2' is not a bool"));
+    EXPECT_TRUE(contains(g.errorOf({"--quiet", "2"}), "--quiet: value '2' is not a bool"));
     EXPECT_TRUE(contains(g.errorOf({"--fstat=yes"}), "--fstat: value 'yes' is not a bool"));
 }
 

@@ -38,7 +38,7 @@ int run(int argc, char** argv) {
     cli.add("axis", &axis, "z", "cylinder axis", {"x", "y", "z"});
     cli.add("nr", &nr, 20, "radial cells (cylindrical)", 1, 100000);
     cli.add("rmax", &rmax, 0, "m", "radial extent (0: half the smaller perpendicular box extent)", 0, Cli::inf);
-    cli.add("centre", &centre, "", "cylinder axis position 'a,b' in the two other coordinates (default: box centre)");
+    cli.add("centre", &centre, "", "cylinder axis position 'a,b' in the two other coordinates, in x, y, z order (axis x: y,z; y: x,z; z: x,y; default: box centre)");
     cli.add("region", &region, "", "grid extent 'xlo,xhi,ylo,yhi,zlo,zhi' (default: the box)");
     cli.add("domain", &domain, "", "domain (walls) 'xlo,xhi,ylo,yhi,zlo,zhi' (default: the box of the file)");
     cli.add("walls", &walls, "renormalize", "kernel at non-periodic boundaries: clip and renormalise, or clip only", {"renormalize", "cut"});
@@ -89,14 +89,27 @@ int run(int argc, char** argv) {
 
     std::vector<Frame> frames = loadFrames(inputs);
     std::vector<Frame> used;
+    int contactOnly = 0;  // contact blocks without a particle snapshot (a .vtu with a whole run's .fstat)
     for (Frame& f : frames)
         if (f.time() >= tmin && f.time() <= tmax) {
-            if (!f.hasParticles)
-                inputError("no particle file (.vtu) for the contact block at time " + fmt(f.time()) +
-                           " (pdpm-cg needs particles; pass the .vtu/.pvd files too)");
-            used.push_back(std::move(f));
+            if (f.hasParticles) used.push_back(std::move(f));
+            else ++contactOnly;
         }
+    if (used.empty() && contactOnly > 0)
+        inputError("no particle file (.vtu) for the contact block(s) between --tmin and --tmax (pdpm-cg needs "
+                   "particles; pass the .vtu/.pvd files too)");
     if (used.empty()) inputError("no snapshots between --tmin and --tmax");
+    // every contact must refer to a particle of its snapshot: checked for all snapshots before any
+    // output is written, so that a bad block late in the list leaves no partial set of files
+    for (const Frame& f : used)
+        if (f.hasContacts)
+            for (const ContactRecord& c : f.contacts.contacts)
+                if (c.i < 0 || std::size_t(c.i) >= f.particles.size() || (c.j >= 0 && std::size_t(c.j) >= f.particles.size()))
+                    inputError("contact (" + std::to_string(c.i) + ", " + std::to_string(c.j) + ") at time " +
+                               fmt(f.time()) + " refers to a particle beyond N = " + std::to_string(f.particles.size()) +
+                               " (contacts and particles from different runs?)");
+    if (contactOnly > 0)
+        std::cout << "pdpm-cg: " << contactOnly << " contact block(s) without a particle snapshot ignored\n";
     if (width <= 0) {
         double sum = 0;
         for (double r : used[0].particles.r) sum += 2 * r;
@@ -121,7 +134,10 @@ int run(int argc, char** argv) {
         const std::string base = joinPath(output, name + suffix);
         if (format != "vti") writeCgCsv(base + ".csv", r, oneD ? heightProfile(r, initial, hIni) : std::vector<double>{});
         if (format != "csv") writeCgVti(base + ".vti", r);
-        std::cout << "pdpm-cg: t = " << fmt(r.time) << " (" << r.snapshots << " snapshot(s)) -> " << base
+        std::cout << "pdpm-cg: t = " << fmt(r.time) << " (" << r.snapshots << " snapshot(s)";
+        if (r.contactSnapshots > 0 && r.contactSnapshots < r.snapshots)
+            std::cout << ", " << r.contactSnapshots << " with contacts: contact stress and fabric average over these";
+        std::cout << ") -> " << base
                   << (format == "both" ? ".{csv,vti}" : (format == "csv" ? ".csv" : ".vti")) << "\n";
     }
     return 0;

@@ -187,7 +187,7 @@ struct CoarseGrainer::Impl {
             c[0] = p.x; c[1] = p.y; c[2] = p.z;
             return;
         }
-        const int a = cg.cfg_.axis, b = (a + 1) % 3, d = (a + 2) % 3;
+        const int a = cg.cfg_.axis, b = a == 0 ? 1 : 0, d = a == 2 ? 1 : 2;  // the other two axes, in x, y, z order
         const double u = p[b] - cg.centre_[0], v = p[d] - cg.centre_[1];
         c[0] = std::sqrt(u * u + v * v);
         c[1] = 0;
@@ -195,7 +195,7 @@ struct CoarseGrainer::Impl {
     }
     static Frame3 frame(const CoarseGrainer& cg, const Vec3& p) {
         Frame3 f;
-        const int a = cg.cfg_.axis, b = (a + 1) % 3, d = (a + 2) % 3;
+        const int a = cg.cfg_.axis, b = a == 0 ? 1 : 0, d = a == 2 ? 1 : 2;  // the other two axes, in x, y, z order
         Vec3 ez, er;
         ez[a] = 1;
         const double u = p[b] - cg.centre_[0], v = p[d] - cg.centre_[1];
@@ -346,7 +346,15 @@ struct CoarseGrainer::Impl {
                 x.domLo = cg.domLo_[a];
                 x.domHi = cg.domHi_[a];
             }
-            x.cap = (x.kind == Axis::Avg || x.kind == Axis::Azim) ? 1 : std::min(x.n, int(std::ceil(2 * K.c / x.h)) + 3);
+            // (in double: a kernel far wider than a cell would overflow an int)
+            x.cap = (x.kind == Axis::Avg || x.kind == Axis::Azim) ? 1
+                                                                   : int(std::min<double>(x.n, std::ceil(2 * K.c / x.h) + 3));
+            // Every periodic image within the kernel's reach is summed, per particle and quadrature
+            // point: a kernel thousands of periods wide would run for hours to give a uniform field.
+            if (x.kind == Axis::Cart && x.periodic && K.c > 1000 * (x.domHi - x.domLo))
+                inputError("--width " + fmt(cg.cfg_.width) + " m: the kernel spans more than 1000 periods of the " +
+                           std::string(1, "xyz"[cg.cfg_.cylindrical ? cg.cfg_.axis : a]) + " axis (length " +
+                           fmt(x.domHi - x.domLo) + " m); the field would be uniform, use a smaller width");
         }
         return ax;
     }
@@ -423,7 +431,7 @@ void CoarseGrainer::setupGeometry(const ParticleSnapshot& s) {
         for (int a = 0; a < 3; ++a) cartesian(a, a, cfg_.n[a]);
     } else {
         g.names = {"r", "theta", std::string(1, "xyz"[cfg_.axis])};
-        const int a = cfg_.axis, b = (a + 1) % 3, d = (a + 2) % 3;
+        const int a = cfg_.axis, b = a == 0 ? 1 : 0, d = a == 2 ? 1 : 2;  // the other two axes, in x, y, z order
         centre_[0] = cfg_.centreSet ? cfg_.centre[0] : 0.5 * (domLo_[b] + domHi_[b]);
         centre_[1] = cfg_.centreSet ? cfg_.centre[1] : 0.5 * (domLo_[d] + domHi_[d]);
         rmax_ = cfg_.rmax > 0 ? cfg_.rmax : 0.5 * std::min(domHi_[b] - domLo_[b], domHi_[d] - domLo_[d]);
@@ -553,6 +561,7 @@ void CoarseGrainer::add(const ParticleSnapshot& s, const ContactSnapshot* contac
         Impl::accumulate(*this, axes, ci, contSum_);
     }
     ++count_;
+    if (useContacts) ++contactCount_;
     timeSum_ += s.time;
 }
 
@@ -561,6 +570,7 @@ CgResult CoarseGrainer::result() const {
     CgResult r;
     r.geom = geom_;
     r.snapshots = count_;
+    r.contactSnapshots = contactCount_;
     r.time = timeSum_ / count_;
     r.hasContacts = anyContacts_;
     r.averagedMeasure = 1;
@@ -568,6 +578,9 @@ CgResult CoarseGrainer::result() const {
         if (geom_.averaged[a] && !(geom_.cylindrical && a == 1)) r.averagedMeasure *= geom_.spacing[a];
     const std::size_t nc = geom_.cells();
     const double inv = 1.0 / count_;
+    // contact stress and fabric: over the snapshots that came with contacts (a window may hold
+    // particle snapshots without a contact block; zeros from those would dilute the average)
+    const double invC = contactCount_ > 0 ? 1.0 / contactCount_ : 0.0;
     auto P = [&](int ch, std::size_t c) { return partSum_[std::size_t(ch) * nc + c] * inv; };
     r.rho.resize(nc); r.momentum.resize(nc); r.velocity.resize(nc); r.kineticStress.resize(nc);
     r.contactStress.assign(nc, Tensor9{}); r.fabric.resize(nc); r.numberDensity.resize(nc);
@@ -582,13 +595,13 @@ CgResult CoarseGrainer::result() const {
         for (int k = 0; k < 6; ++k) {
             const double mvv = P(MVV0 + k, c);
             r.kineticStress[c][k] = rho > 0 ? mvv - p[ab[k][0]] * p[ab[k][1]] / rho : 0.0;
-            r.fabric[c][k] = P(FAB0 + k, c);
+            r.fabric[c][k] = partSum_[std::size_t(FAB0 + k) * nc + c] * invC;
         }
         r.numberDensity[c] = P(NUM, c);
         r.volumeFraction[c] = P(VOL, c);
         r.contactDensity[c] = P(CDEN, c);
         r.coordination[c] = r.numberDensity[c] > 0 ? r.contactDensity[c] / r.numberDensity[c] : 0.0;
-        for (int k = 0; k < 9; ++k) r.contactStress[c][k] = contSum_[std::size_t(k) * nc + c] * inv;
+        for (int k = 0; k < 9; ++k) r.contactStress[c][k] = contSum_[std::size_t(k) * nc + c] * invC;
     }
     return r;
 }

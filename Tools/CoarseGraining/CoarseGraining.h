@@ -74,6 +74,7 @@ struct CgResult {
     CgGeometry geom;
     double time = 0;           ///< mean time of the averaged snapshots
     int snapshots = 0;
+    int contactSnapshots = 0;  ///< of them with contacts: the contact stress and fabric average over these
     bool hasContacts = false;
     std::vector<double> rho;               ///< mass density (kg/m³), Eq. 5.9
     std::vector<Vec3> momentum;            ///< momentum density, Eq. 5.10
@@ -113,6 +114,7 @@ private:
     struct Impl;
     CgConfig cfg_;
     int count_ = 0;
+    int contactCount_ = 0;  ///< snapshots added with contacts
     double timeSum_ = 0;
     bool haveGeometry_ = false;
     bool anyContacts_ = false;

@@ -191,13 +191,25 @@ int runTool(const std::string& program, const std::function<int()>& body) {
 }
 
 std::vector<double> parseNumberList(const std::string& flag, const std::string& text) {
-    std::string t = text;
-    for (char& c : t)
-        if (c == ',') c = ' ';
-    std::istringstream is(t);
     std::vector<double> out;
-    std::string tok;
-    while (is >> tok) out.push_back(toDouble(flag, tok));
+    if (text.find_first_not_of(" \t") == std::string::npos) return out;
+    // Comma-separated entries, each one or more space-separated numbers; an empty entry ("1,,2",
+    // "1,", ",1") is a typo, not a shorter list.
+    std::size_t pos = 0;
+    while (true) {
+        const std::size_t comma = text.find(',', pos);
+        const std::string entry = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+        std::istringstream is(entry);
+        std::string tok;
+        bool any = false;
+        while (is >> tok) {
+            out.push_back(toDouble(flag, tok));
+            any = true;
+        }
+        if (!any) inputError(flagText(flag) + ": empty entry in the list '" + text + "'");
+        if (comma == std::string::npos) break;
+        pos = comma + 1;
+    }
     return out;
 }
 

@@ -249,8 +249,8 @@ ParticleSnapshot readVtu(const std::string& path) {
         s.v[p] = vec(vel, k);
         s.r[p] = rad->GetComponent(k, 0);
         s.m[p] = mass->GetComponent(k, 0);
-        if (!isFinite(s.x[p]) || !isFinite(s.v[p]) || !std::isfinite(s.r[p]) || !(s.m[p] >= 0))
-            inputError(path + ": non-finite or negative particle data at point " + std::to_string(k));
+        if (!isFinite(s.x[p]) || !isFinite(s.v[p]) || !(s.r[p] > 0) || !std::isfinite(s.r[p]) || !(s.m[p] >= 0))
+            inputError(path + ": non-finite particle data, a radius <= 0 or a negative mass at point " + std::to_string(k));
         if (om) s.omega[p] = vec(om, k);
         if (sp) s.species[p] = int(sp->GetComponent(k, 0));
         if (fx) s.fixed[p] = int(fx->GetComponent(k, 0));
@@ -516,6 +516,21 @@ std::vector<Frame> loadFrames(const std::vector<std::string>& paths) {
         frames.push_back(std::move(f));
     }
     std::stable_sort(frames.begin(), frames.end(), [](const Frame& a, const Frame& b) { return a.time() < b.time(); });
+    // The same instant twice (a file listed twice, or a .vtu and the .pvd that lists it) would count
+    // twice in every average.
+    auto same = [](long sa, double ta, long sb, double tb) {
+        if (sa >= 0 && sb >= 0) return sa == sb;
+        return std::abs(ta - tb) <= 1e-9 * std::max(1.0, std::abs(ta));
+    };
+    for (std::size_t k = 1; k < frames.size(); ++k)
+        for (std::size_t q = k; q-- > 0 && same(-1, frames[q].time(), -1, frames[k].time());) {
+            const Frame &a = frames[q], &b = frames[k];
+            if (a.hasParticles && b.hasParticles && same(a.particles.step, a.particles.time, b.particles.step, b.particles.time))
+                inputError("the particle snapshot at time " + std::to_string(a.particles.time) +
+                           " is given twice (a file listed twice, or a .vtu and a .pvd that lists it)");
+            if (a.hasContacts && b.hasContacts && same(a.contacts.step, a.contacts.time, b.contacts.step, b.contacts.time))
+                inputError("the contact block at time " + std::to_string(a.contacts.time) + " is given twice");
+        }
     return frames;
 }
 

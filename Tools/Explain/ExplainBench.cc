@@ -2,6 +2,7 @@
 
 #include "Recording.h"
 
+#include <filesystem>
 #include <algorithm>
 #include <array>
 #include <limits>
@@ -335,10 +336,19 @@ void writeProtocolJson(const Protocol& p, const std::string& path) {
 }
 
 void writeCase(const GeneratedCase& g, const std::string& caseDir, const std::string& truthPath) {
-    ensureDirectory(caseDir);
-    writeRecordingCsv(g.rec, caseDir + "/recording.csv", {"generated blind-benchmark case (pdpm-explain-data generate)"});
-    writeProtocolJson(g.proto, caseDir + "/protocol.json");
+    // The truth first: if it cannot be written, no case appears without it. If the case then fails,
+    // the truth goes again, so that a failed call leaves nothing behind.
     writeJsonFile(truthPath, g.truth);
+    try {
+        ensureDirectory(caseDir);
+        writeRecordingCsv(g.rec, caseDir + "/recording.csv", {"generated blind-benchmark case (pdpm-explain-data generate)"});
+        writeProtocolJson(g.proto, caseDir + "/protocol.json");
+    } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove(truthPath, ec);
+        std::filesystem::remove(caseDir + "/recording.csv", ec);
+        throw;
+    }
 }
 
 CaseScore scoreCase(const Json& report, const Json& truth) {

@@ -9,6 +9,7 @@
 //                FT4 for cocoa)
 //   import-kfs   --input OEk.dat --output DIR     (Karlsruhe fine sand oedometer, KFSDB)
 //   import-cheng --input obsdata.dat --output DIR (GrainLearning glass-bead oedometer)
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -46,6 +47,25 @@ std::vector<std::vector<double>> readWhitespaceTable(const std::string& path, in
     }
     if (rows.size() < 20) inputError(path + ": too few data rows");
     return rows;
+}
+
+/// The first line of a third-party table must name its columns as the source does: a file of
+/// another source (same column count, other quantities) would otherwise be converted silently.
+void requireHeader(const std::string& path, const std::vector<std::string>& words, const std::string& what) {
+    std::ifstream in(path);
+    if (!in) inputError(path + ": cannot be read");
+    std::string line;
+    std::getline(in, line);
+    std::istringstream is(line);
+    std::vector<std::string> have;
+    for (std::string w; is >> w;) have.push_back(w);
+    for (const std::string& w : words)
+        if (std::find(have.begin(), have.end(), w) == have.end())
+            inputError(path + ":1: not " + what + " (its first line should name the columns " + [&] {
+                std::string l;
+                for (const auto& x : words) l += (l.empty() ? "" : ", ") + x;
+                return l;
+            }() + ")");
 }
 
 int thesis(const std::string& material, const std::string& device, const std::string& dataDir, const std::string& out,
@@ -154,6 +174,7 @@ double typicalVelocity(const Recording& r, double height) {
 }
 
 int importKfs(const std::string& in, const std::string& out) {
+    requireHeader(in, {"sigma1", "eps1"}, "a KFSDB oedometer file");
     const auto rows = readWhitespaceTable(in, 3, 3);
     Recording r;
     for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -177,6 +198,7 @@ int importKfs(const std::string& in, const std::string& out) {
 }
 
 int importCheng(const std::string& in, const std::string& out) {
+    requireHeader(in, {"e_a", "p", "q"}, "a GrainLearning obsdata.dat file");
     const auto rows = readWhitespaceTable(in, 1, 4);
     Recording r;
     for (std::size_t i = 0; i < rows.size(); ++i) {

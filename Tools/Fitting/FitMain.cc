@@ -113,8 +113,27 @@ Jammed jammedRows(const CsvTable& t, BranchSelect b) {
 }
 
 std::string gnuplotQuote(const std::string& s) { return "'" + s + "'"; }
+/// A path as one word for /bin/sh.
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
 
 int plot(const Args& a) {
+    if (!a.outGiven) inputError("plot: --out DIR is required (the directory for the PNG files)");
+    // Every input is read and checked before anything is written: gnuplot would plot a foreign or
+    // malformed file as empty axes, or fail half-way with its own multi-line messages.
+    for (const std::string& f : a.files) {
+        if (f.find('\'') != std::string::npos) inputError(f + ": a file name with a quote cannot be passed to gnuplot");
+        const CsvTable t = readCsv(f);
+        for (const char* c : {"tau", "volume_fraction", "p_nd", "C_star", "eps_dev", "s_dev", "F_dev"})
+            if (!t.hasColumn(c)) inputError(f + ": no column '" + c + "' (not a RUN.macro.csv file?)");
+        const int tau = t.column("tau");
+        bool any = false;
+        for (const auto& r : t.rows) any = any || r[std::size_t(tau)] >= 0;
+        if (!any) inputError(f + ": no rows of the test (tau >= 0)");
+    }
     ensureDirectory(a.out);
     std::ostringstream gp;
     gp << "set terminal pngcairo size 800,600 noenhanced\nset datafile separator ','\nset key autotitle columnhead\n"
@@ -149,10 +168,20 @@ int plot(const Args& a) {
        << "set ylabel 's_dev = sigma_dev / p'\nplot " << series("eps_dev", "s_dev") << "\n";
     gp << "set output " << gnuplotQuote(dir + "fdev_vs_epsdev.png") << "\nset ylabel 'F_dev (Eq. 2.10)'\nplot "
        << series("eps_dev", "F_dev") << "\n";
-    const std::string script = dir + "plots.gp";
+    const std::string script = dir + "plots.gp", log = dir + "plots.log";
     writeWholeFile(script, gp.str());
-    const std::string cmd = "gnuplot " + script;
-    if (std::system(cmd.c_str()) != 0) inputError("gnuplot failed (is gnuplot installed?); script: " + script);
+    // gnuplot's own messages go to a log; on failure no half set of figures is left
+    const std::string cmd = "gnuplot " + shellQuote(script) + " > " + shellQuote(log) + " 2>&1";
+    if (std::system(cmd.c_str()) != 0) {
+        std::error_code ec;
+        for (const char* png : {"p_vs_v.png", "cstar_vs_v.png", "sdev_vs_epsdev.png", "fdev_vs_epsdev.png"})
+            std::filesystem::remove(dir + png, ec);
+        inputError("gnuplot failed (is gnuplot installed?); its messages: " + log + ", script: " + script);
+    }
+    {
+        std::error_code ec;
+        if (std::filesystem::file_size(log, ec) == 0 && !ec) std::filesystem::remove(log, ec);
+    }
     std::printf("plots written to %s (p_vs_v.png, cstar_vs_v.png, sdev_vs_epsdev.png, fdev_vs_epsdev.png)\n",
                 a.out.c_str());
     return 0;

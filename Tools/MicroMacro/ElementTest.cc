@@ -152,6 +152,9 @@ void ElementTest::buildStages() {
     fractions_.clear();
     std::stringstream ss(saveFractions_);
     std::string item;
+    // getline drops an empty last item: "0.7," would pass as "0.7" (a typo that then costs a whole run)
+    if (!saveFractions_.empty() && saveFractions_.back() == ',')
+        inputError("--save_fractions: '" + saveFractions_ + "' ends with a comma (an empty entry)");
     while (std::getline(ss, item, ',')) {
         double f = 0;
         if (!parseStrictDouble(item, f) || !(f > 0 && f < 1))
