@@ -95,6 +95,28 @@ TEST(Fitting, StandardErrorsFromTheJacobian) {
     EXPECT_NEAR(se[0] / se[1], 2.0, 0.4);
 }
 
+// Points at one volume fraction (a D2 test at constant volume) cannot fix C1, alpha and v_c: the fit
+// says so instead of reporting the near-zero errors of the pseudo-inverse.
+TEST(Fitting, UndeterminedParametersAreReportedAsSuch) {
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> noise(0, 0.01);
+    std::vector<double> v(40, 0.78), c;
+    for (double x : v) c.push_back(cstarModel(x, 6, 8.0, 0.6, 0.66) + noise(rng));
+    const FitResult f = fitCstar(v, c, 6);
+    EXPECT_FALSE(f.determined);
+    int undetermined = 0;
+    for (bool u : f.undetermined) undetermined += u ? 1 : 0;
+    EXPECT_GE(undetermined, 2);
+    EXPECT_FALSE(f.undetermined[0]) << "C0 is fixed";
+    // a well-posed fit stays determined with finite errors
+    const auto vg = grid(0.67, 0.82, 100);
+    std::vector<double> cg;
+    for (double x : vg) cg.push_back(cstarModel(x, 6, 8.0, 0.6, 0.66) + noise(rng));
+    const FitResult g = fitCstar(vg, cg, 6);
+    EXPECT_TRUE(g.determined);
+    for (bool u : g.undetermined) EXPECT_FALSE(u);
+}
+
 // The reduced model: D2-like runs made from Eq. (2.17)/(2.18) with parameters following Eq. (2.20)
 // give back the Eq. (2.20) parameters, and the prediction of a run made with the same law is exact.
 TEST(Fitting, AnisotropyModelCalibrationAndPrediction) {
@@ -121,6 +143,13 @@ TEST(Fitting, AnisotropyModelCalibrationAndPrediction) {
     const auto ps = m.predictS(v, e, 0.01);
     for (std::size_t i = 0; i < v.size(); ++i) EXPECT_NEAR(ps[i], saturationModel(e[i], sm(v[i]), 0.01, bs(v[i])), 1e-6);
     EXPECT_THROW(calibrateAnisotropy({runs[0], runs[1]}, vc), InputError);
+    EXPECT_FALSE(m.stressQmaxFixed);
+    // runs at the same volume fraction count once: four runs at two v are refused, three v fix Q_max
+    EXPECT_THROW(calibrateAnisotropy({runs[0], runs[4], runs[4], runs[4]}, vc), InputError);
+    const AnisotropyModel three = calibrateAnisotropy({runs[0], runs[2], runs[4], runs[4]}, vc);
+    EXPECT_TRUE(three.stressQmaxFixed);
+    EXPECT_TRUE(three.sMax.fixed[0]);
+    EXPECT_EQ(three.sMax.value[0], 0.0);
     // below the lowest calibration run (0.68) the coefficients are held at their value there; above
     // it Eq. 2.20 applies as fitted (the 0.79 point lies above the highest run, 0.78)
     EXPECT_DOUBLE_EQ(m.vLo, 0.68);

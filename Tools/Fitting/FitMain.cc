@@ -10,6 +10,7 @@
 //                                                       steady state of deviatoric runs (rows with eps_dev >= E):
 //                                                       one row per run, and Eq. 2.11 through the runs' mean C*
 // B: auto (default: unloading if the run has it, else the whole test), loading, unloading, test.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -88,10 +89,39 @@ BranchSelect branchOf(const std::string& b) {
 }
 
 void print(const std::string& title, const FitResult& r) {
-    std::printf("%s  (%d points, rms %.4g%s)\n", title.c_str(), r.points, r.rms, r.converged ? "" : ", NOT converged");
+    std::printf("%s  (%d points, rms %.4g%s%s)\n", title.c_str(), r.points, r.rms, r.converged ? "" : ", NOT converged",
+                r.determined ? "" : ", NOT determined: the data do not constrain every parameter");
     for (std::size_t k = 0; k < r.names.size(); ++k)
         std::printf("  %-8s = %-12.6g %s\n", r.names[k].c_str(), r.value[k],
-                    r.fixed[k] ? "(fixed)" : ("+- " + std::to_string(r.stderror[k])).c_str());
+                    r.fixed[k] ? "(fixed)"
+                    : (k < r.undetermined.size() && r.undetermined[k]) ? "+- undetermined"
+                                                : ("+- " + std::to_string(r.stderror[k])).c_str());
+}
+
+/// Fits against v need a spread of volume fractions: a test at constant volume (D2/D3) or a cycle cut
+/// short leaves the selected rows within a narrow band, where Eq. 2.11, 2.12 and 2.14 are not defined
+/// by the data.
+void requireVolumeRange(const std::vector<double>& v, const std::string& source) {
+    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    if (!(*hi - *lo >= 0.01)) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, ": the selected rows span only v = %.4f-%.4f (< 0.01)", *lo, *hi);
+        inputError(source + buf + "; fits against v need a loading or unloading branch (a constant-volume test or a "
+                                  "cycle cut short: try --branch loading)");
+    }
+}
+
+/// Eq. 2.12 describes jammed packings: rows in the jump to unjamming (C* below C0, a handful of
+/// contacts left) would dominate the exponential fit of the rattler fraction.
+std::pair<std::vector<double>, std::vector<double>> rattlerRows(const std::vector<double>& v, const std::vector<double>& phi,
+                                                                const std::vector<double>& cstar, double c0) {
+    std::pair<std::vector<double>, std::vector<double>> out;
+    for (std::size_t i = 0; i < v.size(); ++i)
+        if (cstar[i] >= c0) {
+            out.first.push_back(v[i]);
+            out.second.push_back(phi[i]);
+        }
+    return out;
 }
 
 struct Jammed {
@@ -226,9 +256,15 @@ int steady(const Args& a) {
     if (v.empty()) inputError("steady: no run has 3 test rows with eps_dev >= " + std::to_string(a.epsMin));
     const bool fixC1 = a.c1 > 0, fixAlpha = a.alpha > 0;
     const std::size_t nFree = 1 + !fixC1 + !fixAlpha;
-    if (v.size() <= nFree) {
-        std::printf("Eq. 2.11 through the steady states: %zu runs are too few for %zu free parameters "
-                    "(give --c1 and/or --alpha)\n", v.size(), nFree);
+    // runs at the same volume fraction do not add to what a fit against v can determine
+    std::vector<double> sorted = v;
+    std::sort(sorted.begin(), sorted.end());
+    std::size_t nv = 1;
+    for (std::size_t k = 1; k < sorted.size(); ++k)
+        if (sorted[k] - sorted[k - 1] > 1e-4) ++nv;
+    if (nv <= nFree) {
+        std::printf("Eq. 2.11 through the steady states: %zu distinct volume fractions (%zu runs) are too few for %zu "
+                    "free parameters (give --c1 and/or --alpha)\n", nv, v.size(), nFree);
         reportSkipped();
         return 0;
     }
@@ -239,8 +275,8 @@ int steady(const Args& a) {
         {"C0", "C1", "alpha", "v_c"}, {a.c0, fixC1 ? a.c1 : 8.0, fixAlpha ? a.alpha : 0.6, 0.98 * vmin},
         {true, fixC1, fixAlpha, false});
     print("Eq. 2.11 C*(v) through the steady states", r);
-    if (v.size() >= 3) print("Eq. 2.12 phi_r(v) through the steady states, v_c from Eq. 2.11", fitRattlers(v, phi, r.get("v_c")));
-    if (v.size() >= 4) print("Eq. 2.14 p(v) through the steady states", fitPressure(v, cm, pnd));
+    if (nv >= 3) print("Eq. 2.12 phi_r(v) through the steady states, v_c from Eq. 2.11", fitRattlers(v, phi, r.get("v_c")));
+    if (nv >= 4) print("Eq. 2.14 p(v) through the steady states", fitPressure(v, cm, pnd));
     reportSkipped();
     return 0;
 }
@@ -274,6 +310,9 @@ int model(const Args& a) {
         };
         row("s_dev_max", m.sMax);
         row("beta_s", m.betaS);
+        if (m.stressQmaxFixed)
+            std::printf("(s_dev_max and beta_s: Q_max fixed at 0, as for the fabric rows: three volume fractions "
+                        "cannot fit three parameters)\n");
         row("F_dev_max", m.fMax);
         row("beta_F", m.betaF);
     }
@@ -337,8 +376,10 @@ int main(int argc, char** argv) {
             for (const auto& f : a.files) {
                 const CsvTable t = readCsv(f);
                 const Jammed j = jammedRows(t, b);
+                requireVolumeRange(j.v, f);
                 const FitResult c = fitCstar(j.v, j.cstar, a.c0);
-                const FitResult r = fitRattlers(j.v, j.phi, c.get("v_c"));
+                const auto [rv, rphi] = rattlerRows(j.v, j.phi, j.cstar, a.c0);
+                const FitResult r = fitRattlers(rv, rphi, c.get("v_c"));
                 const FitResult p = fitPressure(j.v, j.cm, j.p);
                 double cmax = 0;
                 for (double x : j.cstar) cmax = std::max(cmax, x);
@@ -352,10 +393,12 @@ int main(int argc, char** argv) {
         if (a.files.size() != 1) inputError(a.command + ": exactly one input file");
         const CsvTable t = readCsv(a.files.front());
         const Jammed j = jammedRows(t, b);
+        if (a.command == "cstar" || a.command == "rattlers" || a.command == "pressure") requireVolumeRange(j.v, t.source);
         if (a.command == "cstar") print("Eq. 2.11 C*(v)", fitCstar(j.v, j.cstar, a.c0));
         else if (a.command == "rattlers") {
             const double vc = a.vcGiven ? a.vc : fitCstar(j.v, j.cstar, a.c0).get("v_c");
-            print("Eq. 2.12 phi_r(v), v_c = " + std::to_string(vc), fitRattlers(j.v, j.phi, vc));
+            const auto [rv, rphi] = rattlerRows(j.v, j.phi, j.cstar, a.c0);
+            print("Eq. 2.12 phi_r(v), v_c = " + std::to_string(vc) + ", rows with C* >= C0", fitRattlers(rv, rphi, vc));
         } else if (a.command == "pressure") print("Eq. 2.14 p(v)", fitPressure(j.v, j.cm, j.p));
         else if (a.command == "sdev") print("Eq. 2.17 s_dev(eps_dev)", fitSaturation(j.eps, j.sdev));
         else if (a.command == "fdev") print("Eq. 2.18 F_dev(eps_dev)", fitSaturation(j.eps, j.fdev));

@@ -103,6 +103,22 @@ FitResult levenbergMarquardt(const std::vector<double>& y, const PointModel& f, 
     const Eigen::MatrixXd cov = (J.transpose() * J).completeOrthogonalDecomposition().pseudoInverse();
     const double s2 = rss / static_cast<double>(static_cast<int>(n) - m);
     for (int c = 0; c < m; ++c) res.stderror[freeIdx[c]] = std::sqrt(std::max(0.0, s2 * cov(c, c)));
+    // The pseudo-inverse drops directions the data do not constrain, which would show as tiny errors:
+    // a parameter with a share in a (numerically) zero singular direction of J is undetermined.
+    res.undetermined.assign(np, false);
+    if (m > 0) {
+        const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinV);
+        const Eigen::VectorXd& sv = svd.singularValues();
+        const Eigen::MatrixXd& V = svd.matrixV();
+        for (int k = 0; k < m; ++k) {
+            if (sv(k) > 1e-8 * sv(0) && sv(0) > 0) continue;
+            for (int c = 0; c < m; ++c)
+                if (std::fabs(V(c, k)) > 1e-3) {
+                    res.undetermined[freeIdx[c]] = true;
+                    res.determined = false;
+                }
+        }
+    }
     return res;
 }
 
@@ -316,9 +332,21 @@ AnisotropyModel calibrateAnisotropy(const std::vector<CsvTable>& runs, double vc
         bf.push_back(f.get("beta"));
         if (perRun) perRun->push_back({vol, {s, f}});
     }
+    // Runs at the same volume fraction add no information on the v dependence of Eq. 2.20
+    std::vector<double> distinct = v;
+    std::sort(distinct.begin(), distinct.end());
+    std::size_t nv = distinct.empty() ? 0 : 1;
+    for (std::size_t k = 1; k < distinct.size(); ++k)
+        if (distinct[k] - distinct[k - 1] > 1e-4) ++nv;
+    if (nv < 3)
+        inputError("model: the runs are at " + std::to_string(nv) +
+                   " distinct volume fraction(s); Eq. 2.20 needs at least 3 (one run per volume fraction)");
     AnisotropyModel m;
     m.vc = vc;
-    const bool enough = v.size() > 3;  // 3 free parameters need more than 3 points
+    // 3 free parameters need more than 3 volume fractions; with 3, Q_max is fixed at 0 for the stress
+    // parameters as well (the thesis fixes it at 0 for the fabric ones only)
+    const bool enough = nv > 3;
+    m.stressQmaxFixed = !enough;
     m.sMax = enough ? fitVolumeDependence(v, sm, vc, false) : fitVolumeDependence(v, sm, vc, true);
     m.betaS = enough ? fitVolumeDependence(v, bs, vc, false) : fitVolumeDependence(v, bs, vc, true);
     m.fMax = fitVolumeDependence(v, fm, vc, true);

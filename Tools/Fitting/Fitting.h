@@ -19,6 +19,12 @@ struct FitResult {
     double rss = 0, rms = 0;
     int points = 0, iterations = 0;
     bool converged = false;
+    /// false when the data leave some free parameter undetermined (a numerically zero singular value
+    /// of the Jacobian: e.g. C*(v) through points at one volume fraction). `undetermined[k]` marks
+    /// those parameters; their stderror is that of the pseudo-inverse, which leaves the undetermined
+    /// direction out and so looks small: do not report it.
+    bool determined = true;
+    std::vector<bool> undetermined;
     double get(const std::string& name) const;
     double se(const std::string& name) const;
 };
@@ -64,9 +70,12 @@ struct AnisotropyModel {
     FitResult sMax, betaS, fMax, betaF;
     double vc = 0.6653;
     /// Eq. 2.20 is evaluated at max(v, vLo): below the lowest calibration run the exponential of a fit
-    /// over a few points is not extrapolated towards v_c (where it runs away); above, Eq. 2.20 decays
-    /// to its large-v limit by construction. vLo = 0 (no bound) for table coefficients.
+    /// over a few points is not extrapolated towards v_c (where it runs away). Above it, Eq. 2.20 is
+    /// used as fitted: it tends to Q_max when alpha > 0, but alpha is not constrained, and a fit with
+    /// alpha < 0 grows exponentially beyond the highest run. vLo = 0 (no bound) for table coefficients.
     double vLo = 0;
+    /// true when s_dev^max and beta_s were fitted with Q_max = 0 (only 3 volume fractions)
+    bool stressQmaxFixed = false;
     /// Prediction along a path (v(eps), eps): s(eps) = s_max(v) - (s_max(v) - s0) exp(-beta_s(v) eps).
     std::vector<double> predictS(const std::vector<double>& v, const std::vector<double>& eps, double s0) const;
     std::vector<double> predictF(const std::vector<double>& v, const std::vector<double>& eps, double f0) const;
