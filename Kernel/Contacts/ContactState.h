@@ -13,7 +13,7 @@ struct ContactState {
     Vec3 vt;             ///< tangential relative velocity of i w.r.t. j at the contact point
     Vec3 wRel;           ///< relative angular velocity w_i - w_j
     double mEff = 0;     ///< reduced mass
-    double rEff = 0;     ///< reduced radius a_i a_j / (a_i + a_j) (a_i for a wall)
+    double rEff = 0;     ///< reduced radius r_i r_j / (r_i + r_j) of the radii, not the lever arms (r_i for a wall)
     double dt = 0;       ///< time step
     double time = 0;     ///< simulation time (for time-dependent laws)
 };
