@@ -234,6 +234,34 @@ TEST(ContactAnalytic, LinearDampedRestitution) {
     }
 }
 
+// ---- damped Hertz impact: restitution from Tsuji-type damping -----------------------------------
+// gamma_n = 2 sqrt(5/6) beta sqrt(S_n m*), beta = -ln e / sqrt(ln^2 e + pi^2), S_n = 2 E* sqrt(R* delta):
+// the restitution coefficient of a head-on impact is e, whatever the impact speed (the damping scales
+// with delta^(1/4) like the elastic force's tangent stiffness).
+TEST(ContactAnalytic, HertzDampedRestitutionIsEAtEverySpeed) {
+    const double m = sphereMassOf(kRadius);
+    const double mEff = 0.5 * m, rEff = 0.5 * kRadius;
+    for (double e : {0.3, 0.6, 0.9}) {
+        for (double v : {0.05, 0.5}) {
+            ContactParameters p;
+            p.youngEff = 1e8;
+            p.restitution = e;
+            // the elastic contact time at this speed sets the step; the damped one is shorter
+            const double dmax = std::pow(15 * mEff * v * v / (16 * p.youngEff * std::sqrt(rEff)), 0.4);
+            const double tc = 2.9432 * dmax / v;
+            ImpactSim sim("hertz", p, false);
+            sim.setupImpact(v, 0, tc / 100, 3.37, 1.5 * tc);
+            sim.solve();
+            const ImpactResult r = analyse(sim.samples);
+            ASSERT_TRUE(r.complete) << "e = " << e << ", v = " << v;
+            const ParticleData& P = sim.particles();
+            const double eMeasured = (P.v[1].x - P.v[0].x) / v;
+            std::printf("hertz damped e=%.1f v=%.2f: e %.6f (%.2e)\n", e, v, eMeasured, rel(eMeasured, e));
+            EXPECT_LT(rel(eMeasured, e), 5e-3) << "e = " << e << ", v = " << v;
+        }
+    }
+}
+
 // ---- oblique frictional impact on a plane ------------------------------------------------------
 namespace {
 struct Oblique {
