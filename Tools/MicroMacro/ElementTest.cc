@@ -325,6 +325,7 @@ void ElementTest::writeOutputFiles() {
     in.strain = {-s.trueStrain.x, -s.trueStrain.y, -s.trueStrain.z};
     in.epsV = -s.volumetricTrue;
     in.epsDev = s.deviatoric;
+    in.epsDevEngineering = s.deviatoricEngineering;
     const double rotational = rotationalEnergy();
     in.kineticEnergy = kineticEnergy() + rotational;
     in.elasticEnergy = elasticEnergy();

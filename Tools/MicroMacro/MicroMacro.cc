@@ -238,7 +238,7 @@ const std::vector<std::string>& macroColumns() {
         addSummaryColumns(c, "fab_strong");
         addSummaryColumns(c, "fab_weak");
         for (const char* s : {"weak_fraction", "f_wsl", "f_wst", "f_ssl", "f_sst", "mobilisation", "Ek", "Ep",
-                              "Ek_fluct_over_Ep", "mobilisation_face_ratio"})
+                              "Ek_fluct_over_Ep", "mobilisation_face_ratio", "eps_dev_eng"})
             c.push_back(s);
         return c;
     }();
@@ -262,7 +262,7 @@ std::vector<double> macroRow(const MacroResult& r, const MacroInput& in) {
     addSummaryValues(v, r.fabricStrong);
     addSummaryValues(v, r.fabricWeak);
     v.insert(v.end(), {r.weakFraction, r.wsl, r.wst, r.ssl, r.sst, r.mobilisation, in.kineticEnergy, in.elasticEnergy,
-                      r.ekFluctOverEp, r.mobilisationFaceRatio});
+                      r.ekFluctOverEp, r.mobilisationFaceRatio, in.epsDevEngineering});
     return v;
 }
 

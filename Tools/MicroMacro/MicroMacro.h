@@ -44,6 +44,9 @@ struct MacroInput {
     Eigen::Vector3d strain = Eigen::Vector3d::Zero();  ///< true strains ln(L0/L) per axis, compression positive
     double epsV = 0;           ///< ln(V0/V), compression positive
     double epsDev = 0;         ///< Eq. (2.4) of the true strains
+    /// Eq. (2.4) of the engineering strains 1 - L/L0 (chapter 3's Eq. 3.2 strain: its eps_dev^max =
+    /// 0.1549 of the uniaxial cycle to v = 0.82 is this one; the true strain reaches about 0.170)
+    double epsDevEngineering = 0;
     double kineticEnergy = 0;  ///< translational + rotational (J)
     double elasticEnergy = 0;  ///< J
     /// translational energy of the velocities relative to the box's affine flow plus the rotational
