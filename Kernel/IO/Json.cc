@@ -116,12 +116,50 @@ bool Json::operator==(const Json& o) const {
     return false;
 }
 
+namespace {
+/// Length of the well-formed UTF-8 sequence that starts at byte p of t (a byte >= 0x80), 0 if there is
+/// none: no stray continuation byte, no overlong form, no surrogate, nothing above U+10FFFF.
+std::size_t utf8SequenceLength(const std::string& t, std::size_t p) {
+    const auto at = [&](std::size_t k) { return k < t.size() ? static_cast<unsigned char>(t[k]) : 0u; };
+    const unsigned c = at(p);
+    const auto cont = [&](std::size_t k) { return (at(k) & 0xC0u) == 0x80u; };
+    if (c >= 0xC2 && c <= 0xDF) return cont(p + 1) ? 2 : 0;
+    if (c >= 0xE0 && c <= 0xEF) {
+        const unsigned c1 = at(p + 1);
+        if (!cont(p + 1) || !cont(p + 2)) return 0;
+        if ((c == 0xE0 && c1 < 0xA0) || (c == 0xED && c1 > 0x9F)) return 0;  // overlong, surrogate
+        return 3;
+    }
+    if (c >= 0xF0 && c <= 0xF4) {
+        const unsigned c1 = at(p + 1);
+        if (!cont(p + 1) || !cont(p + 2) || !cont(p + 3)) return 0;
+        if ((c == 0xF0 && c1 < 0x90) || (c == 0xF4 && c1 > 0x8F)) return 0;  // overlong, > U+10FFFF
+        return 4;
+    }
+    return 0;
+}
+} // namespace
+
 // ---- writing -------------------------------------------------------------------------------------
 
 namespace {
 void writeString(std::string& out, const std::string& s) {
     out += '"';
-    for (unsigned char c : s) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        if (c >= 0x80) {
+            // well-formed UTF-8 is copied; any other byte (a Latin-1 file name, say) is written as the
+            // character it stands for in Latin-1, so that every file written here reads back
+            const std::size_t n = utf8SequenceLength(s, i);
+            if (n > 0) {
+                out.append(s, i, n);
+                i += n - 1;
+            } else {
+                out += static_cast<char>(0xC0 | (c >> 6));
+                out += static_cast<char>(0x80 | (c & 0x3F));
+            }
+            continue;
+        }
         switch (c) {
             case '"': out += "\\\""; break;
             case '\\': out += "\\\\"; break;
@@ -293,27 +331,6 @@ private:
         }
         return v;
     }
-    /// Length of the well-formed UTF-8 sequence that starts at byte p (a byte >= 0x80), 0 if there
-    /// is none: no stray continuation byte, no overlong form, no surrogate, nothing above U+10FFFF.
-    std::size_t utf8Length(std::size_t p) const {
-        const auto at = [&](std::size_t k) { return k < t_.size() ? static_cast<unsigned char>(t_[k]) : 0u; };
-        const unsigned c = at(p);
-        const auto cont = [&](std::size_t k) { return (at(k) & 0xC0u) == 0x80u; };
-        if (c >= 0xC2 && c <= 0xDF) return cont(p + 1) ? 2 : 0;
-        if (c >= 0xE0 && c <= 0xEF) {
-            const unsigned c1 = at(p + 1);
-            if (!cont(p + 1) || !cont(p + 2)) return 0;
-            if ((c == 0xE0 && c1 < 0xA0) || (c == 0xED && c1 > 0x9F)) return 0;  // overlong, surrogate
-            return 3;
-        }
-        if (c >= 0xF0 && c <= 0xF4) {
-            const unsigned c1 = at(p + 1);
-            if (!cont(p + 1) || !cont(p + 2) || !cont(p + 3)) return 0;
-            if ((c == 0xF0 && c1 < 0x90) || (c == 0xF4 && c1 > 0x8F)) return 0;  // overlong, > U+10FFFF
-            return 4;
-        }
-        return 0;
-    }
     static void utf8(std::string& out, unsigned cp) {
         if (cp < 0x80) out += static_cast<char>(cp);
         else if (cp < 0x800) { out += static_cast<char>(0xC0 | (cp >> 6)); out += static_cast<char>(0x80 | (cp & 0x3F)); }
@@ -337,7 +354,7 @@ private:
             if (c == '"') { ++pos_; return out; }
             if (c < 0x20) fail("control character in a string (escape it)");
             if (c >= 0x80) {  // a multi-byte UTF-8 sequence (JSON text is UTF-8, RFC 8259), copied whole
-                const std::size_t n = utf8Length(pos_);
+                const std::size_t n = utf8SequenceLength(t_, pos_);
                 if (n == 0) fail("invalid UTF-8 byte in a string");
                 out.append(t_, pos_, n);
                 pos_ += n;

@@ -52,6 +52,14 @@ TEST(Json, RoundTripIsExact) {
         EXPECT_EQ(back, j) << j.dump(indent);
         EXPECT_EQ(back.at("third").asNumber(), 1.0 / 3.0);
     }
+    // what is written reads back: UTF-8 text unchanged, a byte that is not UTF-8 (a Latin-1 file name)
+    // as its Latin-1 character
+    Json names = Json::object();
+    names.set("utf8", "\xc2\xb5m \xe2\x80\x94");
+    names.set("latin1", "caf\xe9.csv");
+    const Json nb = parseJson(names.dump());
+    EXPECT_EQ(nb.at("utf8").asString(), "\xc2\xb5m \xe2\x80\x94");
+    EXPECT_EQ(nb.at("latin1").asString(), "caf\xc3\xa9.csv");
     // set() on an existing key replaces in place
     j.set("pi", 3.0);
     EXPECT_EQ(j.asObject()[0].first, "pi");

@@ -101,8 +101,9 @@ void axisWeights(const Axis& ax, const Kernel1D& K, bool renorm, double x, int* 
             if (!(F > 0)) return;
             norm = 1 / F;
         }
-        const int i0 = R < K.c ? 0 : std::max(0, int(std::floor((R - K.c) / ax.h)));
-        const int i1 = std::min(ax.n - 1, int(std::floor((R + K.c) / ax.h)));
+        // clamped in double before the conversion: a kernel far wider than a cell would overflow an int
+        const int i0 = R < K.c ? 0 : int(std::max(0.0, std::floor((R - K.c) / ax.h)));
+        const int i1 = int(std::min<double>(ax.n - 1, std::floor((R + K.c) / ax.h)));
         for (int i = i0; i <= i1; ++i) {
             const double ra = i * ax.h, rb = ra + ax.h;
             const double frac = K.cdf(rb - R) - K.cdf(ra - R) + K.cdf(-ra - R) - K.cdf(-rb - R);
@@ -132,8 +133,8 @@ void axisWeights(const Axis& ax, const Kernel1D& K, bool renorm, double x, int* 
     for (long k = kmin; k <= kmax; ++k) {
         const double xs = x + double(k) * L;
         if (xs + K.c <= ax.lo || xs - K.c >= hi) continue;
-        const int i0 = std::max(0, int(std::floor((xs - K.c - ax.lo) / ax.h)));
-        const int i1 = std::min(ax.n - 1, int(std::floor((xs + K.c - ax.lo) / ax.h)));
+        const int i0 = int(std::max(0.0, std::floor((xs - K.c - ax.lo) / ax.h)));
+        const int i1 = int(std::min<double>(ax.n - 1, std::floor((xs + K.c - ax.lo) / ax.h)));
         auto edge = [&](int i) {  // cell edge i, clipped to the domain in non-periodic directions
             const double e = ax.lo + i * ax.h;
             return ax.periodic ? e : std::clamp(e, ax.domLo, ax.domHi);

@@ -474,13 +474,30 @@ std::vector<Frame> loadFrames(const std::vector<std::string>& paths) {
     if (paths.empty()) inputError("no input files given (--input FILE…)");
     std::vector<ParticleSnapshot> parts;
     std::vector<ContactSnapshot> conts;
+    // The same file twice (listed twice, or a .vtu and a .pvd that lists it) would count twice in every
+    // average. Files are compared by identity, not by time: replicas or a start file and its
+    // preparation may share a time and step.
+    std::vector<std::string> seen;
+    auto once = [&](const std::string& f) {
+        std::error_code ec;
+        std::string id = std::filesystem::weakly_canonical(f, ec).string();
+        if (ec || id.empty()) id = f;
+        if (std::find(seen.begin(), seen.end(), id) != seen.end())
+            inputError(f + ": given twice (a file listed twice, or a .vtu and a .pvd that lists it)");
+        seen.push_back(id);
+    };
     for (const std::string& p : paths) {
         const std::string ext = extensionOf(p);
         if (ext == ".vtu") {
+            once(p);
             parts.push_back(readVtu(p));
         } else if (ext == ".pvd") {
-            for (const std::string& f : readPvd(p)) parts.push_back(readVtu(f));
+            for (const std::string& f : readPvd(p)) {
+                once(f);
+                parts.push_back(readVtu(f));
+            }
         } else if (ext == ".fstat") {
+            once(p);
             for (ContactSnapshot& b : readFstat(p)) conts.push_back(std::move(b));
         } else {
             requireReadable(p);
@@ -516,21 +533,6 @@ std::vector<Frame> loadFrames(const std::vector<std::string>& paths) {
         frames.push_back(std::move(f));
     }
     std::stable_sort(frames.begin(), frames.end(), [](const Frame& a, const Frame& b) { return a.time() < b.time(); });
-    // The same instant twice (a file listed twice, or a .vtu and the .pvd that lists it) would count
-    // twice in every average.
-    auto same = [](long sa, double ta, long sb, double tb) {
-        if (sa >= 0 && sb >= 0) return sa == sb;
-        return std::abs(ta - tb) <= 1e-9 * std::max(1.0, std::abs(ta));
-    };
-    for (std::size_t k = 1; k < frames.size(); ++k)
-        for (std::size_t q = k; q-- > 0 && same(-1, frames[q].time(), -1, frames[k].time());) {
-            const Frame &a = frames[q], &b = frames[k];
-            if (a.hasParticles && b.hasParticles && same(a.particles.step, a.particles.time, b.particles.step, b.particles.time))
-                inputError("the particle snapshot at time " + std::to_string(a.particles.time) +
-                           " is given twice (a file listed twice, or a .vtu and a .pvd that lists it)");
-            if (a.hasContacts && b.hasContacts && same(a.contacts.step, a.contacts.time, b.contacts.step, b.contacts.time))
-                inputError("the contact block at time " + std::to_string(a.contacts.time) + " is given twice");
-        }
     return frames;
 }
 

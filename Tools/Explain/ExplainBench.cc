@@ -336,17 +336,20 @@ void writeProtocolJson(const Protocol& p, const std::string& path) {
 }
 
 void writeCase(const GeneratedCase& g, const std::string& caseDir, const std::string& truthPath) {
-    // The truth first: if it cannot be written, no case appears without it. If the case then fails,
-    // the truth goes again, so that a failed call leaves nothing behind.
+    // The truth first (after the case folder, which may hold it): if it cannot be written, no case
+    // appears without it. If the case then fails, what this call wrote goes again, so that a failed
+    // call leaves no half case behind (files of an earlier call are not touched before they are replaced).
+    ensureDirectory(caseDir);
     writeJsonFile(truthPath, g.truth);
+    bool recordingWritten = false;
     try {
-        ensureDirectory(caseDir);
         writeRecordingCsv(g.rec, caseDir + "/recording.csv", {"generated blind-benchmark case (pdpm-explain-data generate)"});
+        recordingWritten = true;
         writeProtocolJson(g.proto, caseDir + "/protocol.json");
     } catch (...) {
         std::error_code ec;
         std::filesystem::remove(truthPath, ec);
-        std::filesystem::remove(caseDir + "/recording.csv", ec);
+        if (recordingWritten) std::filesystem::remove(caseDir + "/recording.csv", ec);
         throw;
     }
 }

@@ -151,7 +151,6 @@ std::string shellQuote(const std::string& s) {
 }
 
 int plot(const Args& a) {
-    if (!a.outGiven) inputError("plot: --out DIR is required (the directory for the PNG files)");
     // Every input is read and checked before anything is written: gnuplot would plot a foreign or
     // malformed file as empty axes, or fail half-way with its own multi-line messages.
     for (const std::string& f : a.files) {
@@ -379,7 +378,11 @@ int main(int argc, char** argv) {
                 requireVolumeRange(j.v, f);
                 const FitResult c = fitCstar(j.v, j.cstar, a.c0);
                 const auto [rv, rphi] = rattlerRows(j.v, j.phi, j.cstar, a.c0);
-                const FitResult r = fitRattlers(rv, rphi, c.get("v_c"));
+                // too few jammed rows with C* >= C0 for Eq. 2.12: its columns are nan, the others stand
+                FitResult r;
+                r.names = {"phi_c", "phi_v"};
+                r.value = {std::nan(""), std::nan("")};
+                if (rv.size() >= 4) r = fitRattlers(rv, rphi, c.get("v_c"));
                 const FitResult p = fitPressure(j.v, j.cm, j.p);
                 double cmax = 0;
                 for (double x : j.cstar) cmax = std::max(cmax, x);
