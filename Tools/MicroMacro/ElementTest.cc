@@ -1,5 +1,7 @@
 #include "ElementTest.h"
 
+#include "Cli.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -150,15 +152,9 @@ void ElementTest::setupInitialConditions() {
 void ElementTest::buildStages() {
     stages_.clear();
     fractions_.clear();
-    std::stringstream ss(saveFractions_);
-    std::string item;
-    // getline drops an empty last item: "0.7," would pass as "0.7" (a typo that then costs a whole run)
-    if (!saveFractions_.empty() && saveFractions_.back() == ',')
-        inputError("--save_fractions: '" + saveFractions_ + "' ends with a comma (an empty entry)");
-    while (std::getline(ss, item, ',')) {
-        double f = 0;
-        if (!parseStrictDouble(item, f) || !(f > 0 && f < 1))
-            inputError("--save_fractions: '" + item + "' is not a volume fraction in (0, 1)");
+    // the tools' list parser: comma-separated, no empty entries ("0.7," is a typo, not a shorter list)
+    for (double f : tools::parseNumberList("--save_fractions", saveFractions_)) {
+        if (!(f > 0 && f < 1)) inputError("--save_fractions: '" + fmt(f) + "' is not a volume fraction in (0, 1)");
         fractions_.push_back(f);
     }
     if (start_.empty()) {
