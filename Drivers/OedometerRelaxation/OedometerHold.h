@@ -2,6 +2,7 @@
 // and end of the hold, the fit of Eq. (4.3), and how quasi-static the hold was (E_k/E_p samples,
 // clock pauses). Serialised into restart files and the protocol file.
 #pragma once
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -47,6 +48,8 @@ struct OedometerHold {
     }
     /// Entry of the protocol file's extra.holds list.
     Json json() const {
+        // the fit's numbers are null when there is no fit (a creep step, a fit that gave up) or it is not finite
+        const auto fitted = [this](double x) { return fit.ok && std::isfinite(x) ? Json(x) : Json(); };
         return Json::object({{"step", step},
                              {"type", creep ? "hold_stress" : "hold_position"},
                              {"lab_start_s", labStart},
@@ -60,9 +63,9 @@ struct OedometerHold {
                              {"clock_pauses", pauses},
                              {"clock_pauses_ended_by_hold_settle_max", forcedResumes},
                              {"pause_dem_s", pauseDem},
-                             {"fit_C", fit.C},
-                             {"fit_t0_s", fit.t0},
-                             {"fit_rms", fit.rms}});
+                             {"fit_C", fitted(fit.C)},
+                             {"fit_t0_s", fitted(fit.t0)},
+                             {"fit_rms", fitted(fit.rms)}});
     }
     /// One line for the end-of-run summary.
     void print() const {

@@ -117,16 +117,20 @@ int thesis(const std::string& material, const std::string& device, const std::st
         t += dt;
     };
     for (std::size_t k = 0; k < smax.size(); ++k) {
+        // Reloading after a hold: the stress lost in the hold (the deficit) is made up on the way, at
+        // first along a stiff reload and then back onto the loading curve, so that each ramp ends at
+        // the table's sigma_max (the thesis loads "until the next intermediate stress" and normalises
+        // each hold by it). The factor (1 - x) closes the deficit exactly at the target strain.
         const double eStart = e, dEnd = deficit, erec = dEnd > 0 ? dEnd / tangent(eStart) : 1;
+        const double span = std::max(epsK[k] - eStart, 1e-12);
+        auto deficitAt = [&](double ee) { return dEnd * std::exp(-(ee - eStart) / erec) * (1 - (ee - eStart) / span); };
         p.steps.push_back({StepType::Ramp, v, smax[k] * 1e3, (epsK[k] - eStart) / rate});
         while (e < epsK[k]) {
-            deficit = dEnd * std::exp(-(e - eStart) / erec);
-            emit(load(e) - deficit);
+            emit(load(e) - deficitAt(e));
             e = std::min(epsK[k], e + rate * dt);
         }
         e = epsK[k];
-        deficit = dEnd * std::exp(-(e - eStart) / erec);
-        const double sh = smax[k] * 1e3 - deficit;
+        const double sh = smax[k] * 1e3;
         p.steps.push_back({StepType::Hold, -1, -1, hold});
         const double th = t;
         while (t - th < hold) {
