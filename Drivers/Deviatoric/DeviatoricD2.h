@@ -45,8 +45,9 @@ private:
             double goal = lateral_;
             if (lateralFromStart_) {
                 refreshContacts();
-                const pdpm::Vec3 sum = contactStressSum();
-                goal = 0.5 * (sum.x + sum.y) / box().volume();
+                // the stress the controller holds (contact + kinetic), so that it starts at its goal
+                const pdpm::Vec3 s = currentStressDiagonal();
+                goal = 0.5 * (s.x + s.y);
                 if (!(goal > 0)) pdpm::inputError("triaxial: the packing carries no lateral stress at the start (below jamming?)");
             }
             const double m = wallMass_ * totalMass();

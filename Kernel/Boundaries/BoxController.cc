@@ -138,6 +138,8 @@ void BoxController::step(PeriodicBox& box, ParticleData& P, double t, double dt,
     applyRates(box, t + dt);
     if (swelling_ != 0) {
         const double s = std::exp(swelling_ * dt);
+        // the largest radius grows most: its growth bounds every particle's (the neighbour list's skin)
+        if (s > 1) P.radiusGrowth += P.maxRadius() * (s - 1);
         for (std::size_t i = 0; i < P.size(); ++i) {
             const auto sp = static_cast<std::size_t>(P.species[i]);
             if (sp >= density.size()) inputError("box controller: swelling needs the density of every species");

@@ -12,8 +12,10 @@
 // Independently, particles may swell: dr/dt = g_r r (mass follows the radius, Sec. 3.2.2).
 //
 // Strain bookkeeping is relative to a reference box (setReference): per-axis true strain
-// ln(L/L_0) and engineering strain L/L_0 - 1 (tensile positive, the thesis' convention for
-// strain), volumetric true strain ln(V/V_0), and the deviatoric strain of Eq. (2.4)/(3.11).
+// ln(L/L_0) and engineering strain L/L_0 - 1, both tensile positive (the sign of the thesis'
+// strain-rate tensors; its Eq. 2.2/3.2 write the compressive epsilon_zz = 1 - z/z_0 instead, and the
+// element tests' CSV columns are compression positive), volumetric true strain ln(V/V_0), and the
+// deviatoric strain of Eq. (2.4)/(3.11), which does not depend on the sign.
 //
 // Call step() once per time step from DPMBase::actionsBeforeTimeStep(), with the time at the start
 // of the step; the box is set to its state at t + dt.

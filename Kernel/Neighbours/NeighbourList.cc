@@ -33,9 +33,12 @@ bool NeighbourList::needsRebuild(double maxD, const ParticleData& p, const Perio
     if (!valid_ || x0_.size() != p.size() || wallOffset0_.size() != walls.size()) return true;
     const double boxChange = box.lengthChange(0) + box.lengthChange(1) + box.lengthChange(2);
     const double s = skin();
-    if (2 * maxD + boxChange >= s) return true;
+    // radii grown since the build (swelling) close a gap like a displacement: r_i + r_j by twice the bound
+    if (growthUnknown_ && p.radiusGrowth > radiusGrowth0_) return true;
+    const double grown = std::max(0.0, p.radiusGrowth - radiusGrowth0_);
+    if (2 * maxD + 2 * grown + boxChange >= s) return true;
     for (std::size_t w = 0; w < walls.size(); ++w)
-        if (maxD + norm(walls[w]->offset() - wallOffset0_[w]) >= s) return true;
+        if (maxD + grown + norm(walls[w]->offset() - wallOffset0_[w]) >= s) return true;
     return false;
 }
 
@@ -128,6 +131,8 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     if (!ok) inputError("restart: inconsistent neighbour-list section");
     for (auto& ph : phases) std::sort(ph.begin(), ph.end());  // older files: largest slab first
     countPhasePairs();
+    radiusGrowth0_ = 0;
+    growthUnknown_ = true;
     valid_ = true;
 }
 
@@ -527,6 +532,8 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     }
 
     x0_ = p.x;
+    radiusGrowth0_ = p.radiusGrowth;
+    growthUnknown_ = false;
     // Release the build's scratch: memory per particle matters more than the cost of reallocating
     // it at the next build (builds are tens of steps apart).
     release(oldWallParticle_); release(oldWallHistory_); release(oldWallStart_);

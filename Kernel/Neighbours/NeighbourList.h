@@ -87,6 +87,11 @@ private:
     long builds_ = 0;
     std::vector<Vec3> x0_;            ///< positions at the last build
     std::vector<Vec3> wallOffset0_;   ///< wall offsets at the last build
+    /// ParticleData::radiusGrowth at the last build. Not in restart files: a list read from one does
+    /// not know how much its skin the radii used before, so it is rebuilt as soon as radii grow
+    /// (growthUnknown_); runs without swelling are not affected.
+    double radiusGrowth0_ = 0;
+    bool growthUnknown_ = false;
     // build scratch (released after each build)
     std::vector<uint32_t> cellStart_, cellList_;
     std::vector<std::vector<uint32_t>> slabI_, slabJ_, slabK_;

@@ -45,6 +45,7 @@ void ParticleData::setFixed(std::size_t i, bool isFixed) {
 void ParticleData::clear() {
     x.clear(); v.clear(); w.clear(); f.clear(); t.clear();
     r.clear(); m.clear(); invM.clear(); invI.clear(); species.clear(); fixed.clear();
+    radiusGrowth = 0;
 }
 
 void ParticleData::reserve(std::size_t n) {

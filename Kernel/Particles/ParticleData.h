@@ -21,6 +21,10 @@ struct ParticleData {
     std::vector<double> invI; ///< 1/I with I = 2/5 m r^2 (solid sphere), 0 for fixed particles
     std::vector<int32_t> species;
     std::vector<uint8_t> fixed;
+    /// Upper bound of the growth of any radius since the start of the run (m), raised by whoever grows
+    /// radii during a run (the box controller's swelling); the neighbour list counts the growth since
+    /// its last build against its skin, like a displacement. Setting radii up front needs no entry.
+    double radiusGrowth = 0;
 
     std::size_t size() const { return x.size(); }
     bool empty() const { return x.empty(); }

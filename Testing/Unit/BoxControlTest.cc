@@ -8,7 +8,9 @@
 #include "Boundaries/BoxController.h"
 #include "Boundaries/PeriodicBox.h"
 #include "Core/Error.h"
+#include "Neighbours/NeighbourList.h"
 #include "Particles/ParticleData.h"
+#include "Walls/Wall.h"
 
 using namespace pdpm;
 
@@ -190,6 +192,38 @@ TEST(BoxControl, SwellingUpdatesRadiusAndMass) {
     EXPECT_DOUBLE_EQ(f.box.length().z, 4.0);
     // swelling without densities is refused
     EXPECT_THROW(c.step(f.box, f.P, 0, dt), InputError);
+}
+
+// Swelling closes gaps without moving anything: the neighbour list must count the radii's growth
+// against its skin, or two resting spheres that swell into each other are never paired. Two spheres of
+// 1 mm 3 skins apart are not in the list; swelling by g = 10 1/s for 1 ms grows each by 1e-5 m, more
+// than the gap (3e-6 m) and the skin (1e-6 m): a rebuild must be asked for, and it finds the pair.
+TEST(BoxControl, SwellingConsumesTheNeighbourSkin) {
+    ParticleData P;
+    PeriodicBox box;
+    box.set({0, 0, 0}, {0.01, 0.01, 0.01}, true, true, true);
+    const double r = 1e-3, skin = 1e-6;
+    P.add({0.004, 0.005, 0.005}, r, 1000, 0);
+    P.add({0.004 + 2 * r + 3 * skin, 0.005, 0.005}, r, 1000, 0);
+    NeighbourList nl;
+    nl.setSkin(skin);
+    const WallList walls;
+    nl.build(P, box, walls, 0);
+    EXPECT_EQ(nl.pairCount(), 0u);
+    EXPECT_FALSE(nl.needsRebuild(0, P, box, walls));
+    BoxController c;
+    c.setSwelling(10);
+    c.step(box, P, 0, 1e-3, {}, {1000.0});
+    EXPECT_GT(P.r[0] + P.r[1], norm(P.x[1] - P.x[0]));  // they overlap now
+    EXPECT_NEAR(P.radiusGrowth, r * (std::exp(10 * 1e-3) - 1), 1e-15);
+    EXPECT_TRUE(nl.needsRebuild(0, P, box, walls));
+    nl.build(P, box, walls, 0);
+    EXPECT_EQ(nl.pairCount(), 1u);
+    EXPECT_FALSE(nl.needsRebuild(0, P, box, walls));
+    // shrinking never closes a gap: no growth is counted
+    c.setSwelling(-10);
+    c.step(box, P, 1e-3, 1e-3, {}, {1000.0});
+    EXPECT_FALSE(nl.needsRebuild(0, P, box, walls));
 }
 
 TEST(BoxControl, SaveLoadRoundTripAndBadInput) {

@@ -126,6 +126,22 @@ TEST(MicroMacro, AnisotropicFabric) {
 
 // Tilted uniaxial network: the major eigenvector makes the tilt angle with z (Eq. 3.20), for angles
 // on both sides (projection into [0, 90]).
+// Eq. 3.19 is taken in the box axes: a tensor whose deviator is a shear in the x-z plane (eigenvectors
+// at 45 deg to z, eigenvalues +-c) plus a small axial part eps has t_zz - (t_xx + t_yy)/2 = eps, of
+// the sign of eps. An "eigenvalue whose eigenvector is closest to z" would give about +-1.5 c and
+// jump by 3 c as eps changes sign.
+TEST(MicroMacro, AxialStarIsContinuousThroughIsotropy) {
+    const double c = 1e-3;
+    for (double eps : {1e-6, -1e-6, 0.0}) {
+        Eigen::Matrix3d t = Eigen::Matrix3d::Identity();
+        t(0, 2) = t(2, 0) = c;
+        t(2, 2) += eps;
+        const TensorSummary s = summariseTensor(t);
+        EXPECT_NEAR(s.axialStar, eps, 1e-15) << "eps " << eps;
+        EXPECT_NEAR(s.lambda[0], c, 1e-5);  // the eigen-analysis itself still sees the shear
+    }
+}
+
 TEST(MicroMacro, EigenvectorAngleToZ) {
     for (double deg : {0.0, 20.0, 45.0, 70.0, 110.0}) {
         const double a = deg * kPi / 180;

@@ -51,6 +51,9 @@ protected:
     /// Contact part of the stress diagonal before division by the volume: sum over the records of
     /// f_a branch_a (Eq. 2.5), in the records' order.
     Vec3 contactStressSum() const;
+    /// Diagonal of the stress (Eq. 2.5, contact + kinetic) from the last step's contact records and the
+    /// current velocities: the stress the stress-controlled axes compare with their goal.
+    Vec3 currentStressDiagonal();
     /// Append the driver's stages (after the preparation). Called at set-up and on --restart (where
     /// the `begin` of stages already begun is not called again).
     virtual void addTestStages() = 0;
@@ -106,8 +109,6 @@ private:
     void buildStages();
     void enterStage(std::size_t k);
     void setMaterial();
-    /// Diagonal of the stress (Eq. 2.5) from the last step's contact records and the current velocities.
-    Vec3 currentStressDiagonal();
     double testDuration() const;
     double testStart() const;
 

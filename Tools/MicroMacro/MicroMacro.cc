@@ -25,25 +25,20 @@ TensorSummary summariseTensor(const Eigen::Matrix3d& tIn) {
     const Eigen::Matrix3d dev = t - t.trace() / 3.0 * Eigen::Matrix3d::Identity();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(dev);
     // ascending -> descending
-    int zAxis = 0;
-    double bestZ = -1;
     for (int k = 0; k < 3; ++k) {
         const int src = 2 - k;
         s.lambda[k] = es.eigenvalues()(src);
         const double cz = std::min(1.0, std::fabs(es.eigenvectors()(2, src)));
         s.theta[k] = std::acos(cz) * kDeg;
-        if (cz > bestZ) {
-            bestZ = cz;
-            zAxis = k;
-        }
     }
     s.shape = s.lambda[0] != 0 ? s.lambda[1] / s.lambda[0] : 0.0;
     const double a = s.lambda[0] - s.lambda[1], b = s.lambda[1] - s.lambda[2], c = s.lambda[2] - s.lambda[0];
     s.devMagnitude = std::sqrt(0.5 * (a * a + b * b + c * c));
-    double others = 0;
-    for (int k = 0; k < 3; ++k)
-        if (k != zAxis) others += s.lambda[k];
-    s.axialStar = s.lambda[zAxis] - 0.5 * others;
+    // Eq. 3.19 in the box axes (the thesis' footnote to Eq. 3.14: "the other two fixed directions"):
+    // t_zz - (t_xx + t_yy)/2. It equals lambda_z - (the other two)/2 when the principal axes are the
+    // box axes, and unlike an eigenvector pick it stays continuous through isotropy, where the
+    // eigenvectors of two nearly equal eigenvalues turn freely and the pick could jump.
+    s.axialStar = t(2, 2) - 0.5 * (t(0, 0) + t(1, 1));
     return s;
 }
 

@@ -29,8 +29,8 @@ struct TensorSummary {
     double theta[3] = {0, 0, 0};   ///< angle (degrees, in [0, 90]) of each eigenvector to z (Eq. 3.20)
     double shape = 0;              ///< Lambda = lambda2 / lambda1 (0 if lambda1 = 0)
     double devMagnitude = 0;       ///< sqrt(((l1-l2)^2 + (l2-l3)^2 + (l3-l1)^2)/2) = sqrt(3 J2)
-    double axialStar = 0;          ///< Eq. (3.19): lambda_z - (sum of the other two)/2, lambda_z the
-                                   ///< eigenvalue whose eigenvector is closest to z (signed)
+    double axialStar = 0;          ///< Eq. (3.19) in the box axes, signed: t_zz - (t_xx + t_yy)/2 (equal to
+                                   ///< lambda_z - (other two)/2 when the principal axes are the box axes)
 };
 TensorSummary summariseTensor(const Eigen::Matrix3d& t);
 
