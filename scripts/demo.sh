@@ -41,7 +41,7 @@ if [[ -f "$shared/data/thesis/table_4_5_relaxation_materials.csv" ]]; then
     --protocol "$out/explain-cocoa-input/protocol.json" --output "$out/explain-cocoa" > "$out/explain-cocoa.log"
   echo
   echo "pdpm-explain on the thesis cocoa recording (report: $out/explain-cocoa/report.md):"
-  grep -m1 '"verdict"' "$out/explain-cocoa/report.json" | sed 's/^ */  /'
+  grep -m1 '"verdict"' "$out/explain-cocoa/report.json" | sed 's/^ */  /' || true
   grep -A3 -m1 -i "^## *verdict\|^\*\*verdict" "$out/explain-cocoa/report.md" | sed 's/^/  /' || true
   grep -m1 "^Mean C over the holds" "$out/explain-cocoa/report.md" | sed 's/^/  /' || true
   grep -m1 "^DEM confirmation" "$out/explain-cocoa.log" | sed 's/^/  /' || true

@@ -4,7 +4,9 @@
 # Quick no-op when everything is present.
 set -euo pipefail
 
-packages=(build-essential cmake libeigen3-dev libvtk9-dev libgtest-dev gnuplot-nox git)
+# python3 (standard library only) runs the validation and analysis scripts and one self-test; libvtk9-dev
+# pulls it in anyway, it is named so that nothing depends on that
+packages=(build-essential cmake libeigen3-dev libvtk9-dev libgtest-dev gnuplot-nox python3)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -24,7 +26,7 @@ if [[ $(id -u) -eq 0 ]]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
 else
   echo "install-deps: missing Debian packages: ${missing[*]}" >&2
-  echo "install them with:" >&2
-  echo "  sudo apt-get install --no-install-recommends ${missing[*]}" >&2
+  echo "run this script again as root, or install them as root with:" >&2
+  echo "  apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ${missing[*]}" >&2
   exit 1
 fi
