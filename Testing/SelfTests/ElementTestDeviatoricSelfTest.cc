@@ -87,7 +87,9 @@ int main() {
     const Series szz = select(u, "tau", "sigma_zz", [&](const std::vector<double>& r) { return r[ut] >= 0; });
     const double goal = 0.5 * (sxx.y.front() + syy.y.front());
     const double lateEnd = 0.5 * (meanOver(sxx, 0.5, 1.0) + meanOver(syy, 0.5, 1.0));
-    check(std::fabs(lateEnd / goal - 1) < 0.15, "triaxial lateral stress held (" + std::to_string(lateEnd / goal) + " of goal)");
+    // measured 2026-12-06: 1.0023 of the goal, row-to-row sd 6e-5 over the second half (the
+    // controller's lag behind a wall that keeps moving); 1 % is four times that offset
+    check(std::fabs(lateEnd / goal - 1) < 0.01, "triaxial lateral stress held (" + std::to_string(lateEnd / goal) + " of goal)");
     check(meanOver(szz, 0.5, 1.0) > 1.2 * lateEnd, "triaxial axial stress exceeds lateral stress");
 
     auto lines = [](const std::string& path) {

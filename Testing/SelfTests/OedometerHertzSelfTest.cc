@@ -3,8 +3,10 @@
 // particles, the non-cohesive frictional material, load to 20 kPa - unload to 1 kPa - reload):
 //  1. the protocol file names the law hertz-rolling-relax and the modulus;
 //  2. the bed's pair contacts at the end of the run carry Hertz's force 4/3 E* sqrt(R) delta^(3/2):
-//     median relative deviation below 2 %, and the exponent of the force on the overlap (least squares
-//     over the contacts) within 0.05 of 3/2 (measured: 1.1e-5 and 1.499 over 483 contacts). This is the
+//     median relative deviation below 0.1 % (what is left is the dashpot at the top of a slow reload),
+//     and the exponent of the force on the overlap (least squares over the contacts) within 0.01 of
+//     3/2 (measured: 1.1e-5 and 1.499 over 483 contacts; a prefactor error in R* or 4/3 of more than
+//     0.1 % fails). This is the
 //     check that fails when the law is wrong: a linear force 16 times softer than the material's
 //     (an experiment, 2026-12-04) gave 0.42 and 1.00, yet passed item 3 (curvature 1.63), because the
 //     unloading curvature follows how soft the contacts are under the load, not their force law;
@@ -113,8 +115,8 @@ int main() {
     ok &= check(proto.at("material").at("E_star_Pa").asNumber() == 1e7, "the protocol file has E*");
     std::printf("     %zu pair contacts at the end: median |f_n / Hertz - 1| %.3g, exponent of f_n on delta %.4g\n", hz.contacts,
                 hz.medianDeviation, hz.exponent);
-    ok &= check(hz.medianDeviation >= 0 && hz.medianDeviation < 0.02, "the contact forces follow Hertz's law (median within 2 %)");
-    ok &= check(std::abs(hz.exponent - 1.5) < 0.05, "the contact force grows as the overlap to the power 3/2");
+    ok &= check(hz.medianDeviation >= 0 && hz.medianDeviation < 1e-3, "the contact forces follow Hertz's law (median within 0.1 %)");
+    ok &= check(std::abs(hz.exponent - 1.5) < 0.01, "the contact force grows as the overlap to the power 3/2");
     ok &= check(lin.curvature > 0 && hz.curvature > lin.curvature + 0.15, "the Hertzian bed unloads along a more curved branch");
     // --normal_stiffness_scale (pdpm-explain's control run): k x 0.0728, the secant stiffness of Hertz
     // at E* = 1e7 Pa at the mean contact force of 20 kPa; the softer bed is compressed further

@@ -415,6 +415,17 @@ TEST(CgIoTest, VtuAndFstatRoundTrip) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(CgIoTest, MalformedVtuThrowsInputError) {
+    if (!haveVtk()) GTEST_SKIP() << "built without VTK";
+    const std::string dir = tmpDir();
+    {
+        std::ofstream f(dir + "/bad.vtu");
+        f << "this is not xml\n";
+    }
+    EXPECT_THROW(readVtu(dir + "/bad.vtu"), InputError);
+    std::filesystem::remove_all(dir);
+}
+
 TEST(CgIoTest, BadInputThrowsInputError) {
     const std::string dir = tmpDir();
     EXPECT_THROW(readFstat(dir + "/missing.fstat"), InputError);
@@ -424,13 +435,6 @@ TEST(CgIoTest, BadInputThrowsInputError) {
         f << "# time 0 step 0 contacts 2\n# box 0 1 0 1 0 1 periodic 0 0 0\n0 1 0 0 0 0.1 0 0 1 1 0 0 0 0 0 1\n";
     }
     EXPECT_THROW(readFstat(dir + "/bad.fstat"), InputError);  // 16 values and too few rows
-    {
-        std::ofstream f(dir + "/bad.vtu");
-        f << "this is not xml\n";
-    }
-    if (haveVtk()) {
-        EXPECT_THROW(readVtu(dir + "/bad.vtu"), InputError);
-    }
     CgConfig cfg;
     cfg.n[0] = 10;
     cfg.width = 0;

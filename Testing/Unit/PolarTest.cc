@@ -81,8 +81,13 @@ ContactSnapshot stratifiedContacts(int n, std::array<double, 3> eps) {
 TEST(PolarTest, MethodsHaveNegligibleBias) {
     const std::array<double, 3> eps{0.1, -0.03, 0.01};
     const PolarResult r = analysePolar(stratifiedContacts(100000, eps), PolarConfig{});
+    // M2 integrates the model exactly over each bin: only the sample's discreteness is left (measured
+    // 3.5e-6 ... 4.9e-6). M1 and M3 evaluate P(theta) at the bin centres, a midpoint-rule bias of the
+    // default bins (measured 1.3e-4 ... 1.9e-4, about 2 % of eps6 = 0.01); each bound is about 2.5 x
+    // its measurement, so a bias of a few per cent of eps2 or a sign slip in eps4 or eps6 fails.
     for (const HarmonicFit* f : {&r.m1, &r.m2, &r.m3})
-        for (int l = 0; l < 3; ++l) EXPECT_NEAR(f->eps[l], eps[l], 0.001) << f->method << " eps" << 2 * l + 2;
+        for (int l = 0; l < 3; ++l)
+            EXPECT_NEAR(f->eps[l], eps[l], f == &r.m2 ? 1.2e-5 : 5e-4) << f->method << " eps" << 2 * l + 2;
     EXPECT_NEAR(r.eps2Fabric, eps[0], 1e-4);
     std::cout << "bias (stratified sample): M1 " << r.m1.eps[0] - eps[0] << " " << r.m1.eps[1] - eps[1] << " "
               << r.m1.eps[2] - eps[2] << "; M2 " << r.m2.eps[0] - eps[0] << " " << r.m2.eps[1] - eps[1] << " "

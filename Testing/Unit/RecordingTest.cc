@@ -162,8 +162,8 @@ TEST(Recording, FitRecoversEq43) {
         }
         const RelaxationFit fit = fitRelaxation(t, f);
         ASSERT_TRUE(fit.ok);
-        EXPECT_NEAR(fit.C, C, 1e-3 * C);
-        EXPECT_NEAR(fit.t0, t0, 1e-2 * t0);
+        EXPECT_NEAR(fit.C, C, 1e-6 * C);  // noise-free: the fit converges to round-off
+        EXPECT_NEAR(fit.t0, t0, 1e-6 * t0);
         EXPECT_LT(fit.rms, 1e-6);
     }
 }

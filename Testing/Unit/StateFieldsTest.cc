@@ -92,13 +92,17 @@ TEST(StaggeredColumn, SpacingLayersAndDiscClearance) {
         }
     }
     // odd layers are shifted by s/2 in x and y: no point has one straight above it in the next layer
+    int layerPairs = 0;
     for (const auto& p : pts)
         for (const auto& q : pts)
             if (std::abs(q.z - p.z - s) < 1e-9) {
+                ++layerPairs;
                 EXPECT_FALSE(std::abs(q.x - p.x) < 1e-9 && std::abs(q.y - p.y) < 1e-9);
             }
+    EXPECT_GT(layerPairs, 0);  // the layers are s apart, so the check above saw pairs of layers
     // square cross-section: all points inside [0, lx]^2
     const auto sq = staggeredColumn(100, s, 5.0, 0, 0);
+    ASSERT_EQ(sq.size(), 100u);
     for (const auto& p : sq) {
         EXPECT_GT(p.x, 0);
         EXPECT_LT(p.x, 5.0);

@@ -9,22 +9,27 @@
 #   already in fig2_3/).
 # Writes fig2_3/table.txt (share of the cycle's rows with E_k/E_p <= 1e-3, overall, on loading and
 # on unloading, for the total and for the fluctuation kinetic energy; the ratio at the start of the
-# cycle and its median) and fig2_3/fig2_3.png (log E_k/E_p against t_s). No pass/fail gate: the
-# thesis gives the figure, not numbers; the table says what came out.
+# cycle and its median) and fig2_3/fig2_3.png (log E_k/E_p against t_s). Gate: the thesis' words
+# (Sec. 2.4.1) and the shape of its figure: E_k/E_p <= 1e-3 for most (> 50 %) of the cycle's rows and
+# its median below 1e-3, and the smallest ratio near the turning point (t_s in [0.4, 0.6]); measured
+# 62 % / 4.0e-4 / t_s 0.5 (Documentation/validation-thesis-ch2.md). The initial ratio (thesis < 1e-3,
+# measured 6.3e-3 with the preset's 500 us relaxation) is reported, not gated.
 set -euo pipefail
 bin="${1:?usage: chapter2-fig2_3.sh BIN_DIR [THREADS]}"; threads="${2:-1}"
 periods="${PERIODS:-0.005}"
 relax=()
 [[ -n "${RELAX:-}" ]] && relax=(--relax "$RELAX")
 mkdir -p fig2_3
+gate=0
 if [[ "${SKIP_RUNS:-0}" != 1 ]]; then
   for T in $periods; do
     "$bin/IsotropicCompression" --preset thesis-ch2 --v_i 0.673 --period "$T" --threads "$threads" --quiet --vtk 0 \
       --save_fractions "" --output fig2_3 --name "ISO_T$T" ${relax[@]+"${relax[@]}"}
   done
 fi
-python3 - $periods <<'PY' | tee fig2_3/table.txt
+python3 - $periods <<'PY' > fig2_3/table.txt || gate=1
 import csv, sys, statistics
+ok = True
 print(f"{'T_s':>8} {'rows':>5} {'<=1e-3 all':>10} {'loading':>8} {'unloading':>9} {'fluct all':>9} {'start':>9} {'median':>9}")
 for T in sys.argv[1:]:
     rows = [r for r in csv.DictReader(open(f"fig2_3/ISO_T{T}.macro.csv")) if float(r['tau']) >= 0]
@@ -36,7 +41,14 @@ for T in sys.argv[1:]:
     unload = [e for e, t in zip(ek, tau) if t > 0.5]
     print(f"{T:>8} {len(ek):5d} {share(ek):9.0f}% {share(load):7.0f}% {share(unload):8.0f}% {share(fl):8.0f}% "
           f"{ek[0]:9.2e} {statistics.median(ek):9.2e}")
+    tmin = tau[min(range(len(ek)), key=lambda i: ek[i])] if ek else float('nan')
+    good = share(ek) > 50 and statistics.median(ek) < 1e-3 and 0.4 <= tmin <= 0.6
+    ok &= good
+    print(f"T = {T}: most of the cycle at E_k/E_p <= 1e-3, median below 1e-3, smallest at t_s {tmin:.2f} "
+          f"(within [0.4, 0.6]): {'met' if good else 'NOT met'}")
+sys.exit(0 if ok else 1)
 PY
+cat fig2_3/table.txt
 if command -v gnuplot > /dev/null; then
   {
     echo "set terminal pngcairo size 900,600 noenhanced; set output 'fig2_3/fig2_3.png'; set datafile separator ','"
@@ -52,3 +64,4 @@ if command -v gnuplot > /dev/null; then
   } > fig2_3/fig2_3.gp
   gnuplot fig2_3/fig2_3.gp || echo "chapter2-fig2_3.sh: gnuplot failed"
 fi
+exit $gate

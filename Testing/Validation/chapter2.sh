@@ -83,7 +83,7 @@ if (( ${#preds[@]} > 0 )) && command -v gnuplot > /dev/null; then
     gnuplot "ch2/$fig.gp" || echo "chapter2.sh: gnuplot failed for $fig"
   done
 fi
-if [[ ! -f "$ref" ]]; then echo "chapter2.sh: reference $ref absent: comparison skipped"; exit 0; fi
+if [[ ! -f "$ref" ]]; then echo "SKIP: chapter2.sh: reference $ref absent: comparison skipped"; exit 77; fi
 python3 - "$ref" ch2/table_2_2_measured.txt ch2/d2_steady.txt <<'PY'
 import sys, csv
 ref = {r['mode']: r for r in csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith('#'))}

@@ -16,7 +16,7 @@
 #   MUS="0 0.1 ..." the friction coefficients (default: the thesis' nine); JOBS=N runs N at once
 #   (use JOBS=2 with THREADS=1 on a 2-core machine); ANALYSE_ONLY=1 only re-reads OUT_DIR.
 #   Full scale: about 35 min per mu on 2 threads; --particles 2197: 8-17 min on one core (2026-12-01).
-#   A run that fails leaves OUT_DIR/UNI_muX.failed and is left out of the analysis.
+#   A run that fails leaves OUT_DIR/UNI_muX.failed; it is left out of the analysis and fails the test.
 set -euo pipefail
 if (( $# < 2 )); then echo "usage: chapter3.sh BIN_DIR OUT_DIR [THREADS] [driver flags...]" >&2; exit 2; fi
 bin="$1"; out="$2"; threads="${3:-1}"; shift $(( $# < 3 ? $# : 3 ))
@@ -43,9 +43,11 @@ python3 - "$out" $mus <<'PY' || rc=$?
 import sys, csv, os
 out = sys.argv[1]
 mus = []
+lost = []  # a failed or missing run fails the test; the others are still analysed and reported
 for mu in sys.argv[2:]:
     if os.path.exists(f"{out}/UNI_mu{mu}.failed") or not os.path.exists(f"{out}/UNI_mu{mu}.macro.csv"):
-        print(f"mu = {mu}: run failed or missing, left out (see {out}/UNI_mu{mu}.log)")
+        print(f"mu = {mu}: run failed or missing, left out of the analysis (see {out}/UNI_mu{mu}.log); the test fails")
+        lost.append(mu)
     else:
         mus.append(mu)
 if len(mus) < 2: sys.exit("fewer than two completed runs")
@@ -111,6 +113,9 @@ if known:
     print(f"friction next to the moving faces like elsewhere (face ratio within 0.2 of 1 for every mu > 0): {good}")
 else:
     print("face ratio: not in these files (written before 2026-12-04); not checked")
+if lost:
+    ok = False
+    print(f"runs failed or missing for mu = {', '.join(lost)}: FAIL")
 sys.exit(0 if ok else 1)
 PY
 # Sec. 3.4.3 (Fig. 3.5-3.9): eigenvalues, eigenvector angles and shape factors; reported, not gated

@@ -5,7 +5,7 @@
 # OUT/pooled.md: every count of the summaries added over the seeds (one seed's 60 cases per SNR make
 # a single case worth 1.7 %, so a target near its threshold is judged on the pooled counts), and the
 # forced additions' held-out gains case by case. --update-doc then uses the first seed's summary.
-# SKIP_RUNS=1 only re-pools the folders already in OUT. PDPM_EXPLAIN_BIC=T runs the explainer with
+# SKIP_RUNS=1 only re-pools the folders already in OUT. Fails when a met target is lost (gate at the end). PDPM_EXPLAIN_BIC=T runs the explainer with
 # the acceptance threshold dBIC >= T instead of 10 (the threshold's trade-off).
 source "$(dirname "$0")/explain-common.sh"
 REPS="${PDPM_EXPLAIN_REPS:-10}"; NULLS="${PDPM_EXPLAIN_NULLS:-100}"
@@ -80,3 +80,35 @@ a, b = doc.index('<!-- benchmark:begin -->'), doc.index('<!-- benchmark:end -->'
 open(sys.argv[1], 'w').write(doc[:a] + '<!-- benchmark:begin -->\n' + summ + doc[b:])
 PY
 fi
+# Gate: the targets this benchmark meets (Documentation/tools-explain.md, "measured") must stay met;
+# the two it does not meet on one seed (detection at SNR 5: 58/60 on seed 1, 296/300 pooled; the
+# primary parameter within 25 % at SNR 5: 87 % pooled, structural) are printed, not gated.
+GATE="$SUMMARY"; [ -n "$SEEDS" ] && GATE="$OUT/pooled.md"
+python3 - "$GATE" <<'PY'
+import re, sys
+gated = {  # row prefix -> (<= or >=, threshold in %)
+    "false 'missing physics'": ('<=', 5.0), 'detection at peak SNR 3': ('>=', 90.0),
+    'correct mechanism among detections': ('>=', 90.0), 'window IoU >= 0.7 among detections': ('>=', 90.0)}
+reported = {'detection at peak SNR 5': ('>=', 98.0), 'primary parameter within 25 % (detections': ('>=', 90.0)}
+ok, seen = True, set()
+for line in open(sys.argv[1]):
+    cells = [c.strip() for c in line.strip().strip('|').split('|')]
+    if len(cells) != 3: continue
+    m = re.fullmatch(r'(\d+)/(\d+) \(([\d.]+) %\)', cells[2])
+    fm = re.match(r'(-?[\d.]+) %', cells[2])
+    for table, gate in ((gated, True), (reported, False)):
+        for key, (op, thr) in table.items():
+            if cells[0].startswith(key) and m:
+                v = 100 * int(m.group(1)) / max(int(m.group(2)), 1)
+                met = v <= thr if op == '<=' else v >= thr
+                seen.add(key)
+                if gate: ok &= met
+                print(f"{'gate' if gate else 'report'}: {cells[0]}: {cells[2]} (target {op} {thr:g} %): {'met' if met else 'NOT met'}")
+    if cells[0].startswith('forced addition on null cases') and fm:
+        met = float(fm.group(1)) <= 2.0; ok &= met; seen.add('forced')
+        print(f"gate: forced addition on nulls, mean held-out gain {fm.group(1)} % (target <= 2 %): {'met' if met else 'NOT met'}")
+missing = [k for k in gated if k not in seen] + ([] if 'forced' in seen else ['forced addition'])
+if missing: ok = False; print('rows missing from the summary: ' + ', '.join(missing))
+sys.exit(0 if ok else 1)
+PY
+

@@ -12,6 +12,16 @@ F="$SHARED/data/external/grainlearning-cheng-exp/oedometer/obsdata.dat"
 python3 - "$OUT/cheng/report.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
-print(f"glass beads: {r['verdict']}; mechanisms {[m['name'] for m in r['mechanisms']]}; mismatch in "
-      f"{sorted({w['phase'] for w in r['windows'] if w['mismatch']})}")
+names = [m['name'] for m in r['mechanisms']]
+acts = sorted({w['phase'] for m in r['mechanisms'] if m['name'] == 'plasticity' for w in m.get('acts_in', [])})
+f = r['fit']
+print(f"glass beads: {r['verdict']}; mechanisms {names}; mismatch in "
+      f"{sorted({w['phase'] for w in r['windows'] if w['mismatch']})}; plasticity acts in {acts}; "
+      f"held-out RMSE {f['heldout_rmse_baseline']:.4g} -> {f['heldout_rmse_augmented']:.4g} Pa")
+# gate (Documentation/tools-explain.md, real recording (c)): the beads are loaded, unloaded and
+# reloaded, and the linear-elastic baseline lacks the stiffer unloading: missing_physics naming
+# plasticity, acting in the unload or reload branch, with a lower held-out error
+ok = r['verdict'] == 'missing_physics' and 'plasticity' in names and bool({'unload', 'reload'} & set(acts)) \
+    and f['heldout_rmse_augmented'] < f['heldout_rmse_baseline']
+sys.exit(0 if ok else 1)
 PY
