@@ -46,7 +46,7 @@ private:
             if (lateralFromStart_) {
                 refreshContacts();
                 // the stress the controller holds (contact + kinetic), so that it starts at its goal
-                const pdpm::Vec3 s = currentStressDiagonal();
+                const pdpm::Vec3 s = stressDiagonalNow();
                 goal = 0.5 * (s.x + s.y);
                 if (!(goal > 0)) pdpm::inputError("triaxial: the packing carries no lateral stress at the start (below jamming?)");
             }

@@ -124,8 +124,6 @@ TEST(MicroMacro, AnisotropicFabric) {
     EXPECT_NEAR(r.fabricAll.shape, -0.5, 1e-12);
 }
 
-// Tilted uniaxial network: the major eigenvector makes the tilt angle with z (Eq. 3.20), for angles
-// on both sides (projection into [0, 90]).
 // Eq. 3.19 is taken in the box axes: a tensor whose deviator is a shear in the x-z plane (eigenvectors
 // at 45 deg to z, eigenvalues +-c) plus a small axial part eps has t_zz - (t_xx + t_yy)/2 = eps, of
 // the sign of eps. An "eigenvalue whose eigenvector is closest to z" would give about +-1.5 c and
@@ -142,6 +140,8 @@ TEST(MicroMacro, AxialStarIsContinuousThroughIsotropy) {
     }
 }
 
+// Tilted uniaxial network: the major eigenvector makes the tilt angle with z (Eq. 3.20), for angles
+// on both sides (projection into [0, 90]).
 TEST(MicroMacro, EigenvectorAngleToZ) {
     for (double deg : {0.0, 20.0, 45.0, 70.0, 110.0}) {
         const double a = deg * kPi / 180;

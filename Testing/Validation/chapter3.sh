@@ -119,6 +119,11 @@ if lost:
 sys.exit(0 if ok else 1)
 PY
 # Sec. 3.4.3 (Fig. 3.5-3.9): eigenvalues, eigenvector angles and shape factors; reported, not gated
+# the follow-up analyses read the completed runs only (a lost run has already failed the test above)
+done_mus=""; for mu in $mus; do
+  [[ ! -f "$out/UNI_mu$mu.failed" && -f "$out/UNI_mu$mu.macro.csv" ]] && done_mus="$done_mus $mu"
+done
+mus="$done_mus"
 python3 "$(dirname "$0")/chapter3-eigen.py" "$out" $mus || { echo "chapter3-eigen.py failed" >&2; rc=1; }
 # Sec. 3.4.4 (Fig. 3.11-3.13): weak / strong contacts and friction mobilisation; reported, not gated
 python3 "$(dirname "$0")/chapter3-mobilisation.py" "$out" $mus || { echo "chapter3-mobilisation.py failed" >&2; rc=1; }

@@ -95,7 +95,7 @@ for line in open(sys.argv[1]):
     cells = [c.strip() for c in line.strip().strip('|').split('|')]
     if len(cells) != 3: continue
     m = re.fullmatch(r'(\d+)/(\d+) \(([\d.]+) %\)', cells[2])
-    fm = re.match(r'(-?[\d.]+) %', cells[2])
+    fm = re.match(r'(-?[\d.]+(?:e[-+]?\d+)?) %', cells[2])
     for table, gate in ((gated, True), (reported, False)):
         for key, (op, thr) in table.items():
             if cells[0].startswith(key) and m:

@@ -22,9 +22,9 @@ holds() {  # print step, stress_start, stress_end, drop, C, t0 of every hold of 
          match($0,/"step": [0-9]+/); s=substr($0,RSTART+8,RLENGTH-8);
          match($0,/"stress_start_Pa": [-0-9.e]+/); a=substr($0,RSTART+19,RLENGTH-19);
          match($0,/"stress_end_Pa": [-0-9.e]+/); b=substr($0,RSTART+17,RLENGTH-17);
-         match($0,/"fit_C": [-0-9.e]+/); c=substr($0,RSTART+9,RLENGTH-9);
-         match($0,/"fit_t0_s": [-0-9.e]+/); t=substr($0,RSTART+12,RLENGTH-12);
-         printf "%s %.4g %.4g %.4f %.4g %.4g\n", s, a, b, 1-b/a, c, t }' "$1"
+         c = match($0,/"fit_C": [-0-9.e]+/) ? sprintf("%.4g", substr($0,RSTART+9,RLENGTH-9)) : "-";  # null: no fit
+         t = match($0,/"fit_t0_s": [-0-9.e]+/) ? sprintf("%.4g", substr($0,RSTART+12,RLENGTH-12)) : "-";
+         printf "%s %.4g %.4g %.4f %s %s\n", s, a, b, 1-b/a, c, t }' "$1"
 }
 echo "== 1. FT4 preset, protocol 1, relaxation on"
 time "$EXE" --preset ft4 --relax_memory 0 --threads "$THREADS" --output "$OUT" --name ft4_p1 --quiet

@@ -250,7 +250,10 @@ Vec3 ElementTest::contactStressSum() const {
 }
 
 Vec3 ElementTest::currentStressDiagonal() {
-    Vec3 s = haveRestoredContactSum_ ? restoredContactSum_ : contactStressSum();
+    return stressDiagonalFrom(haveRestoredContactSum_ ? restoredContactSum_ : contactStressSum());
+}
+
+Vec3 ElementTest::stressDiagonalFrom(Vec3 s) const {
     const ParticleData& P = particles();
     for (std::size_t i = 0; i < P.size(); ++i)
         for (int a = 0; a < 3; ++a) s[a] += P.m[i] * P.v[i][a] * P.v[i][a];

@@ -51,9 +51,9 @@ protected:
     /// Contact part of the stress diagonal before division by the volume: sum over the records of
     /// f_a branch_a (Eq. 2.5), in the records' order.
     Vec3 contactStressSum() const;
-    /// Diagonal of the stress (Eq. 2.5, contact + kinetic) from the last step's contact records and the
-    /// current velocities: the stress the stress-controlled axes compare with their goal.
-    Vec3 currentStressDiagonal();
+    /// Diagonal of the stress (Eq. 2.5, contact + kinetic) from the current contact records and
+    /// velocities: the stress that stress-controlled axes compare with their goal.
+    Vec3 stressDiagonalNow() const { return stressDiagonalFrom(contactStressSum()); }
     /// Append the driver's stages (after the preparation). Called at set-up and on --restart (where
     /// the `begin` of stages already begun is not called again).
     virtual void addTestStages() = 0;
@@ -106,6 +106,10 @@ protected:
     void loadDriverState(const std::vector<std::pair<std::string, std::string>>& kv) override;
 
 private:
+    /// `contactSum` (contactStressSum's form) plus the kinetic part, divided by the volume.
+    Vec3 stressDiagonalFrom(Vec3 contactSum) const;
+    /// As stressDiagonalNow(), but the first step after a --restart uses the stored contact sum.
+    Vec3 currentStressDiagonal();
     void buildStages();
     void enterStage(std::size_t k);
     void setMaterial();
