@@ -339,14 +339,22 @@ DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const
 
     // lab holds, alternately calibration and held-out
     std::vector<LabHold> lab;
-    for (const PhaseSegment& seg : detectPhases(rec.t, rec.strain)) {
-        if (seg.phase != Phase::Hold || seg.end - seg.begin < 5) continue;
+    for (const PhaseSegment& found : detectPhases(rec.t, rec.strain)) {
+        if (found.phase != Phase::Hold || found.end - found.begin < 5) continue;
+        // from the hold's first sample (holdExtent): the DEM hold curves start where the piston stops,
+        // and a lab hold started a few samples late has already lost the fast part of its relaxation,
+        // which the DEM curve would then take off a second time
+        const PhaseSegment seg = holdExtent(rec.strain, found);
         LabHold h;
         for (std::size_t i = seg.begin; i < seg.end; ++i) {
             h.t.push_back(rec.t[i] - rec.t[seg.begin]);
             h.s.push_back(rec.stress[i]);
         }
-        h.s0 = (h.s[0] + h.s[1] + h.s[2]) / 3;
+        // the stress at the start: the first sample where the start is exact (the mean of the first
+        // three would already hold part of the fast relaxation), else the mean of three against noise
+        const double eh = rec.strain[seg.end - 1];
+        const bool exact = std::fabs(rec.strain[seg.begin] - eh) <= 1e-9 * std::max(1e-12, std::fabs(eh));
+        h.s0 = exact ? h.s[0] : (h.s[0] + h.s[1] + h.s[2]) / 3;
         h.tStart = rec.t[seg.begin];
         lab.push_back(std::move(h));
     }

@@ -106,6 +106,20 @@ struct BottomSensor {
 };
 BottomSensor readBottomSensor(const Recording& rec, const Protocol& proto);
 
+/// The refinement test of contact_relaxation: does C depend on the stress at the start of each hold,
+/// C_h = C (s_h/s_ref)^(-beta) (relaxation_stress_dependence in ExplainModel.h)?
+struct RelaxStressTest {
+    bool tested = false;
+    std::string why;              ///< why it was not tested, or the outcome in words
+    int holds = 0;                ///< holds with a positive start stress
+    double stressSpan = 0;        ///< largest / smallest hold start stress
+    double dBIC = 0, heldoutBase = 0, heldoutAug = 0;
+    double beta = 0, betaSe = 0;  ///< the fitted exponent (in the refined fit, accepted or not)
+    double stressRef = 0;         ///< s_ref (Pa): C is reported at this stress when accepted
+    double holdsBeta = 0, holdsBetaSe = 0;  ///< the exponent over the holds fitted one by one (HoldFits)
+    bool accepted = false;
+};
+
 struct ExplainResult {
     std::string verdict;
     std::string summary;
@@ -119,6 +133,7 @@ struct ExplainResult {
     /// (a third polish might have moved the current model further; it is not tried)
     int polishLimitRounds = 0;
     std::vector<Window> windows;
+    RelaxStressTest relaxStress;
     /// what the windows' explained part is measured against (report.json windows_reference)
     std::string windowsReference = "the baseline residual alone (no mechanism added, or its refit failed)";
     std::string ambiguousWith;  ///< second mechanism when verdict == ambiguous

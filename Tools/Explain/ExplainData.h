@@ -86,6 +86,18 @@ std::vector<double> smoothedRate(const std::vector<double>& t, const std::vector
 /// record), the median of the samples moving faster than that),
 /// load / reload (below the previous maximum strain) / unload otherwise; short pieces merged.
 std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::vector<double>& strain);
+/// The exact extent of a hold found by detectPhases. The detector smooths the strain rate over about
+/// size/800 samples on either side, so it finds a hold that many samples late and ends it that many
+/// early; where the control channel is exactly constant over the hold (a stopped piston recorded
+/// without noise) the run of equal strain (within 1e-9 relative) around the hold's middle gives its true
+/// first and last sample, looked for no further than 2*(size/800)+3 samples beyond the detected ends (so
+/// that a quantised strain channel on a slow ramp cannot pull the start into the ramp). When that run
+/// covers less than half of the detected hold (a noisy control channel) the detected extent is kept;
+/// otherwise the run's last sample is left out unless the record ends there (it may be the first
+/// sample of the next ramp, which starts from the hold's strain).
+/// A hold with a relaxation time below the sampling interval loses several per cent of its stress in
+/// the samples the detector misses: every fit of a hold starts from this extent.
+PhaseSegment holdExtent(const std::vector<double>& strain, const PhaseSegment& hold);
 /// The phases of a recording as pdpm-explain reports them: detectPhases, except that every creep step
 /// of the protocol (creepSamples: the recording's `step` column names a hold_stress step) is one Hold
 /// segment from its first sample to its last. A creep step moves the strain, fast at its start, so the

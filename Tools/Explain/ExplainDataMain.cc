@@ -117,26 +117,35 @@ int thesis(const std::string& material, const std::string& device, const std::st
         t += dt;
     };
     for (std::size_t k = 0; k < smax.size(); ++k) {
-        // Reloading after a hold: the stress lost in the hold (the deficit) is made up on the way, at
-        // first along a stiff reload and then back onto the loading curve, so that each ramp ends at
-        // the table's sigma_max (the thesis loads "until the next intermediate stress" and normalises
-        // each hold by it). The factor (1 - x) closes the deficit exactly at the target strain.
+        // Reloading after a hold, as in the thesis' protocol 1: the piston moves on at constant speed
+        // "until the next intermediate stress" (the table's sigma_max), so every hold starts at
+        // sigma_max. The stress lost in the hold (the deficit) is made up on the way, along a stiff
+        // reload that rejoins the loading curve: deficit D exp(-(e - e_start)/e_rec), e_rec = D / tangent
+        // (assumed; the tables give the holds only). With a deficit left, the ramp ends at a strain a
+        // little beyond the loading curve's strain of sigma_max.
         const double eStart = e, dEnd = deficit, erec = dEnd > 0 ? dEnd / tangent(eStart) : 1;
-        const double span = std::max(epsK[k] - eStart, 1e-12);
-        auto deficitAt = [&](double ee) { return dEnd * std::exp(-(ee - eStart) / erec) * (1 - (ee - eStart) / span); };
-        p.steps.push_back({StepType::Ramp, v, smax[k] * 1e3, (epsK[k] - eStart) / rate});
-        while (e < epsK[k]) {
-            emit(load(e) - deficitAt(e));
-            e = std::min(epsK[k], e + rate * dt);
+        const double target = smax[k] * 1e3;
+        auto stressAt = [&](double ee) { return load(ee) - (dEnd > 0 ? dEnd * std::exp(-(ee - eStart) / erec) : 0.0); };
+        // strain where the ramp reaches the target: bisection between the start and far beyond
+        double lo = eStart, hi = std::max(epsK[k], eStart) + 1.0;
+        for (int it = 0; it < 200 && hi - lo > 1e-15; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (stressAt(mid) < target ? lo : hi) = mid;
         }
-        e = epsK[k];
+        const double eEnd = hi;
+        p.steps.push_back({StepType::Ramp, v, target, (eEnd - eStart) / rate});
+        while (e < eEnd) {
+            emit(stressAt(e));
+            e = std::min(eEnd, e + rate * dt);
+        }
+        e = eEnd;
         const double sh = smax[k] * 1e3;
         p.steps.push_back({StepType::Hold, -1, -1, hold});
         const double th = t;
         while (t - th < hold) {
             const double rel = sh * std::pow(1 + (t - th) / t0[k], -C[k]);
             emit(rel);
-            deficit = smax[k] * 1e3 - rel;
+            deficit = load(e) - rel;  // below the loading curve: this hold's loss and what the ramp had not made up
         }
     }
     // the step durations must add up to the record
@@ -159,6 +168,9 @@ int thesis(const std::string& material, const std::string& device, const std::st
     Json cs = Json::array();
     for (double c : C) cs.push(Json(c));
     truth.set("C_per_hold", cs);
+    Json ss = Json::array();
+    for (double x : smax) ss.push(Json(x * 1e3));
+    truth.set("sigma_max_per_hold_Pa", ss);
     writeJsonFile(out + "/thesis-values.json", truth);
     std::cout << "wrote " << out << "/recording.csv (" << r.t.size() << " samples)\n";
     return 0;

@@ -38,6 +38,10 @@
 //                   cohesion tension, and the term acts only after first contact. A reversal is
 //                   committed after a strain turn of more than 0.5 % of the strain range (inside that
 //                   band the new branch is already followed: continuous at every turn)
+//   relaxation_stress_dependence  (a refinement of contact_relaxation, never a candidate; inert
+//                   without it) the C of each hold depends on the stress at its start,
+//                   C_h = C (s_h / s_ref)^(-beta), s_ref = ModelInput::holdStressRef (off: beta = 0);
+//                   C is then the value at s_ref. Tested by explain() after the mechanisms are chosen.
 //   instrument_compliance (nuisance)  eps_true = eps_meas - kappa/E * stress (off: kappa = 0)
 //   sensor_drift (nuisance)           stress + a + b (t - t_0) (off: a = b = 0)
 #pragma once
@@ -62,6 +66,7 @@ enum Comp : int {
     kRolling,
     kLoadingCurve,
     kHysteresis,
+    kRelaxStress,
     kNumComp
 };
 constexpr int kLastMechanism = kRolling;  ///< mechanisms are kRelaxation..kLastMechanism
@@ -74,7 +79,7 @@ bool isMechanism(int c);
 
 /// Fixed parameters; the loading_curve knots follow from index kNumPar on (Model::knotStrains()).
 enum Par : int {
-    pE = 0, pEps0, pKappa, pOffset, pDrift, pRelaxC, pRelaxT0, pLambda, pTension, pMuK, pTauV, pExpN, pUnloadExp, pReloadExp, kNumPar
+    pE = 0, pEps0, pKappa, pOffset, pDrift, pRelaxC, pRelaxT0, pLambda, pTension, pMuK, pTauV, pExpN, pUnloadExp, pReloadExp, pRelaxBeta, kNumPar
 };
 
 struct ParDef {
@@ -94,6 +99,9 @@ struct ModelInput {
     std::vector<char> creep;  ///< 1 in the creep steps (constant stress) of the protocol (also hold)
     double height = 0.06, diameter = 0.149;
     double epsRange = 1, epsMin = 0, stressMax = 1, duration = 1;
+    /// reference stress of relaxation_stress_dependence: geometric mean of the recorded stress at the
+    /// first sample of every hold with a positive stress (stressMax / 2 when there is none)
+    double holdStressRef = 0.5;
     /// the protocol's device.zero_before_contact: first contact (eps0)
     /// at or after the first sample's strain: the bed is not loaded before the record begins
     bool contactAtStart = false;

@@ -61,25 +61,13 @@ HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples
     for (const auto& ph : detectPhases(rec.t, rec.strain))
         if (ph.phase == Phase::Hold && ph.end - ph.begin >= minSamples &&
             !(creep.size() == rec.size() && creep[ph.begin + (ph.end - ph.begin) / 2])) {
-            // the phase detector smooths the strain rate, so a hold may be found a few samples early or
-            // late; where the control channel is exactly constant (a stopped piston, recorded without
-            // noise) the run of equal strain around the middle of the hold gives its true start and end
-            // (t0 depends on the start, C does not); it may move the detected ends only by about the
-            // detector's smoothing scale, so a quantised strain channel on a slow ramp cannot pull the
-            // start far into the ramp
-            const std::size_t mid = ph.begin + (ph.end - ph.begin) / 2, reach = 2 * std::max<std::size_t>(1, rec.size() / 800) + 3;
-            const double eh = rec.strain[mid];
+            // the run of equal strain around the hold's middle (holdExtent): t0 depends on the start, C does not
+            const PhaseSegment ext = holdExtent(rec.strain, ph);
+            std::size_t b = ext.begin;
+            const std::size_t e = ext.end;
+            const double eh = rec.strain[ph.begin + (ph.end - ph.begin) / 2];
             const double tol = 1e-9 * std::max(1e-12, std::fabs(eh));
-            const std::size_t bMin = ph.begin > reach ? ph.begin - reach : 0, eMax = std::min(rec.size(), ph.end + reach);
-            std::size_t b = mid, e = mid + 1;
-            while (b > bMin && std::fabs(rec.strain[b - 1] - eh) <= tol) --b;
-            while (e < eMax && std::fabs(rec.strain[e] - eh) <= tol) ++e;
-            if (2 * (e - b) < ph.end - ph.begin) {  // a noisy control channel: keep the detected phase
-                b = ph.begin;
-                e = ph.end;
-            } else if (e < rec.size()) {
-                --e;  // the first sample of the next ramp may still carry the hold's strain
-            }
+            const std::size_t reach = 2 * std::max<std::size_t>(1, rec.size() / 800) + 3;
             // one hold split in two by the detector (same strain, contiguous): fitted once, as a whole
             if (lastEnd != std::size_t(-1) && std::fabs(eh - lastStrain) <= tol && b <= lastEnd + reach) {
                 b = lastBegin;
