@@ -139,11 +139,10 @@ int thesis(const std::string& material, const std::string& device, const std::st
             e = std::min(eEnd, e + rate * dt);
         }
         e = eEnd;
-        const double sh = smax[k] * 1e3;
         p.steps.push_back({StepType::Hold, -1, -1, hold});
         const double th = t;
         while (t - th < hold) {
-            const double rel = sh * std::pow(1 + (t - th) / t0[k], -C[k]);
+            const double rel = target * std::pow(1 + (t - th) / t0[k], -C[k]);
             emit(rel);
             deficit = load(e) - rel;  // below the loading curve: this hold's loss and what the ramp had not made up
         }
