@@ -39,6 +39,7 @@ public:
         auto& p = parameters();
         p.add("relax_C", &relaxC_, 0.0792, "-", "relaxation exponent C of Eq. 4.1 (0: off)", Range::nonNegative());
         p.add("relax_t0", &relaxT0_, 0.2894, "s", "relaxation time t0 of Eq. 4.1 (lab seconds)", Range::positive());
+        p.add("relax_in_ramps", &relaxInRamps_, true, "contacts relax during ramps and unloads too (1), or their relaxation clocks stand still there (0: every contact loaded by a ramp starts the following hold at clock 0, the assumption under which Eq. 4.3 is fitted to a hold; lab time still runs)");
         p.add("relax_memory", &relaxMemory_, 0, "-", "relaxation clock memory m: a load increase f_ref -> f shortens a contact's clock by (f_ref/f)^(1/m) (0: restarts it)", Range::nonNegative());
         p.add("steps", &stepsText_, "ramp:5e-5:10000,hold:300",
               "protocol: ramp:V:S, hold:T, unload:V:S, creep:T[:S] (V lab m/s, S Pa, T lab s), comma separated");
@@ -111,7 +112,7 @@ protected:
 
     void actionsBeforeTimeLoop() override {
         if (restarted_) {
-            if (stepIndex_ < steps_.size()) setLabScale(labScale_);
+            if (stepIndex_ < steps_.size()) setLabScale(labScale_, relaxes(steps_[stepIndex_]));
         } else {
             startStep(0);
         }
@@ -165,13 +166,13 @@ protected:
             case recording::Step::Kind::Ramp: {
                 const double gap = (st.targetStress - axialStress()) / std::max(st.targetStress, 1.0);
                 v = -vRamp * approachSpeed(gap);
-                setLabScale(std::abs(v) / st.velocity);
+                setLabScale(std::abs(v) / st.velocity, relaxes(st));
                 break;
             }
             case recording::Step::Kind::Unload: {
                 const double gap = (axialStress() - st.targetStress) / std::max(rampStartStress_, 1.0);
                 v = vRamp * approachSpeed(gap);
-                setLabScale(std::abs(v) / st.velocity);
+                setLabScale(std::abs(v) / st.velocity, relaxes(st));
                 break;
             }
             case recording::Step::Kind::HoldPosition:
@@ -292,10 +293,17 @@ private:
         if (holdClock_ == "linear") return timeScale_;
         return (relaxT0_ + (labTime_ - stepLabStart_)) / holdTau_;
     }
-    void setLabScale(double s) {
+    /// Lab seconds per DEM second of the recording's clock (s) and of the contacts' relaxation clocks
+    /// (s, or 0 where the step does not relax).
+    void setLabScale(double s, bool relaxing = true) {
         labScale_ = s;
         for (int a = 0; a < species().size(); ++a)
-            for (int b = 0; b < species().size(); ++b) species().pairMutable(a, b).relaxTimeScale = s;
+            for (int b = 0; b < species().size(); ++b) species().pairMutable(a, b).relaxTimeScale = relaxing ? s : 0.0;
+    }
+    /// Whether contacts relax during a step: always in holds, in ramps and unloads with relax_in_ramps.
+    bool relaxes(const recording::Step& st) const {
+        const bool moving = st.kind == recording::Step::Kind::Ramp || st.kind == recording::Step::Kind::Unload;
+        return !moving || relaxInRamps_;
     }
     void startStep(std::size_t k) {
         stepIndex_ = k;
@@ -305,7 +313,7 @@ private:
         const double vRamp = rampRate_ * pistonZ0_;
         switch (st.kind) {
             case recording::Step::Kind::Ramp:
-            case recording::Step::Kind::Unload: setLabScale(vRamp / st.velocity); break;
+            case recording::Step::Kind::Unload: setLabScale(vRamp / st.velocity, relaxes(st)); break;
             case recording::Step::Kind::HoldPosition: setLabScale(0); break;
             case recording::Step::Kind::HoldStress:
                 setLabScale(0);
@@ -404,7 +412,8 @@ private:
         rec_.comments = {"PowderDPM " + programName() + " recording (Documentation/recording-format.md)",
                          "source: simulation; time_s is lab time; dem_time_s is simulation time",
                          "particles: " + std::to_string(particles().size()) + "; relax_C " + fmt(relaxC_) + "; relax_t0 " +
-                             fmt(relaxT0_) + " s" + (relaxMemory_ > 0 ? "; relax_memory " + fmt(relaxMemory_) : "") + "; hold clock " +
+                             fmt(relaxT0_) + " s" + (relaxMemory_ > 0 ? "; relax_memory " + fmt(relaxMemory_) : "") +
+                             (relaxInRamps_ ? "" : "; no relaxation in ramps") + "; hold clock " +
                              (holdClock_ == "linear" ? "linear, " + fmt(timeScale_) + " lab s per DEM s"
                                                      : "log, (t0 + t)/" + fmt(holdTau_) + " lab s per DEM s")};
         recording::writeRecording(outputPath(".recording.csv"), rec_);
@@ -438,6 +447,7 @@ private:
     std::size_t stepIndex_ = 0;
     double pistonV_ = 0, labTime_ = 0, labScale_ = 0, stepLabStart_ = 0, creepStress_ = 1, rampStartStress_ = 0;
     double maxInertial_ = 0, settleStart_ = 0, pauseStart_ = 0;
+    bool relaxInRamps_ = true;
     bool inHold_ = false, restarted_ = false, settling_ = false, paused_ = false;
     std::vector<HoldResult> holds_;
     recording::Recording rec_;

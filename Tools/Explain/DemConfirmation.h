@@ -148,6 +148,7 @@ double unloadStiffnessExponent(const std::vector<double>& t, const std::vector<d
 struct DemRun {
     std::string name;
     double relaxC = 0, relaxT0 = 0;  ///< contact_relaxation runs
+    bool relaxInRamps = true;        ///< contact_relaxation runs: the contacts relax in ramps and unloads too
     double kOverK1 = 0;              ///< plasticity runs
     double wallFriction = 0;         ///< wall_friction runs (mu_w)
     double hertzModulus = 0;         ///< stiffness_nonlinearity runs (E*, Pa; 0: linear contacts)

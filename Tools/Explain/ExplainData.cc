@@ -311,16 +311,19 @@ std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::
     return seg;
 }
 
+std::size_t holdReach(std::size_t n) { return 2 * std::max<std::size_t>(1, n / 800) + 3; }
+
+bool atHoldStrain(double strain, double eh) { return std::fabs(strain - eh) <= 1e-9 * std::max(1e-12, std::fabs(eh)); }
+
 PhaseSegment holdExtent(const std::vector<double>& strain, const PhaseSegment& hold) {
     const std::size_t n = strain.size();
     if (hold.end <= hold.begin || hold.end > n) return hold;
-    const std::size_t mid = hold.begin + (hold.end - hold.begin) / 2, reach = 2 * std::max<std::size_t>(1, n / 800) + 3;
+    const std::size_t mid = hold.begin + (hold.end - hold.begin) / 2, reach = holdReach(n);
     const double eh = strain[mid];
-    const double tol = 1e-9 * std::max(1e-12, std::fabs(eh));
     const std::size_t bMin = hold.begin > reach ? hold.begin - reach : 0, eMax = std::min(n, hold.end + reach);
     std::size_t b = mid, e = mid + 1;
-    while (b > bMin && std::fabs(strain[b - 1] - eh) <= tol) --b;
-    while (e < eMax && std::fabs(strain[e] - eh) <= tol) ++e;
+    while (b > bMin && atHoldStrain(strain[b - 1], eh)) --b;
+    while (e < eMax && atHoldStrain(strain[e], eh)) ++e;
     if (2 * (e - b) < hold.end - hold.begin) return hold;  // a noisy control channel
     if (e < n) --e;  // the last sample at the hold's strain may be the next ramp's first
     return {hold.phase, b, e};

@@ -98,6 +98,10 @@ std::vector<PhaseSegment> detectPhases(const std::vector<double>& t, const std::
 /// A hold with a relaxation time below the sampling interval loses several per cent of its stress in
 /// the samples the detector misses: every fit of a hold starts from this extent.
 PhaseSegment holdExtent(const std::vector<double>& strain, const PhaseSegment& hold);
+/// How far (samples) beyond a detected hold's ends holdExtent looks in a record of n samples: 2*(n/800)+3.
+std::size_t holdReach(std::size_t n);
+/// Whether a strain sample equals a hold's strain eh within holdExtent's tolerance (1e-9 relative).
+bool atHoldStrain(double strain, double eh);
 /// The phases of a recording as pdpm-explain reports them: detectPhases, except that every creep step
 /// of the protocol (creepSamples: the recording's `step` column names a hold_stress step) is one Hold
 /// segment from its first sample to its last. A creep step moves the strain, fast at its start, so the

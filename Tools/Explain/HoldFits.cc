@@ -66,10 +66,8 @@ HoldFitSummary fitHolds(const Recording& rec, double rho, std::size_t minSamples
             std::size_t b = ext.begin;
             const std::size_t e = ext.end;
             const double eh = rec.strain[ph.begin + (ph.end - ph.begin) / 2];
-            const double tol = 1e-9 * std::max(1e-12, std::fabs(eh));
-            const std::size_t reach = 2 * std::max<std::size_t>(1, rec.size() / 800) + 3;
             // one hold split in two by the detector (same strain, contiguous): fitted once, as a whole
-            if (lastEnd != std::size_t(-1) && std::fabs(eh - lastStrain) <= tol && b <= lastEnd + reach) {
+            if (lastEnd != std::size_t(-1) && atHoldStrain(lastStrain, eh) && b <= lastEnd + holdReach(rec.size())) {
                 b = lastBegin;
                 if (lastKept) s.holds.pop_back();
             }
