@@ -35,7 +35,7 @@ echo "  (plus RUN_NNNN.vtu snapshots for ParaView; figures in plots/)"
 # Tables 4.4/4.5 of ../shared/data/thesis): where does a model without time dependence disagree, and why?
 shared="$(cd .. && pwd)/shared"
 if [[ -f "$shared/data/thesis/table_4_5_relaxation_materials.csv" ]]; then
-  echo "demo.sh: pdpm-explain on the thesis cocoa recording (surrogate fit, then 4 small DEM runs: a few minutes)"
+  echo "demo.sh: pdpm-explain on the thesis cocoa recording (surrogate fit, then 3 small DEM runs: a few minutes)"
   build/bin/pdpm-explain-data thesis --material cocoa --data "$shared/data" --output "$out/explain-cocoa-input" >/dev/null
   build/bin/pdpm-explain --recording "$out/explain-cocoa-input/recording.csv" \
     --protocol "$out/explain-cocoa-input/protocol.json" --output "$out/explain-cocoa" > "$out/explain-cocoa.log"

@@ -1160,16 +1160,15 @@ DemResult confirmWithStandIn(const std::string& dir, const std::string& name, co
 
 // The contact_relaxation DEM confirmation against a stand-in driver whose "DEM" holds follow Eq. 4.3
 // with the bed's C = 0.75 x the contact C and, when the contacts also relax in the ramps (the
-// default), a t0 2000 times the contact t0 (contacts aged by the ramp), else the contact t0. The lab
-// holds have C = 0.03 and t0 = 1 ms: run b (contact C rescaled to 0.04, bed C 0.03) still misses their
-// fast start, run c (the same C, contacts relaxing in the holds only) is exact, and the calibration
-// holds choose it.
-TEST(ExplainCommand, DemConfirmationRelaxationCalibratesWhetherContactsRelaxInRamps) {
-    const pdpm::testing::TempDir tmp;
-    const std::string dir = tmp.str();
+// default), a t0 `age` times the contact t0 (contacts aged by the ramp), else the contact t0; each
+// hold's fitted C and t0 are in its protocol file, as the driver writes them. The lab holds have
+// C = 0.03 and t0 = 1 ms. With age 2000, run a's holds fit t0 = 2000 t0: run b (C rescaled to 0.04,
+// bed C 0.03) relaxes in the holds only, matches the lab exactly and is chosen. With age 1, run b
+// relaxes in the ramps too.
+DemResult confirmRelaxationWithStandIn(const std::string& dir, double age) {
     writeStandInScript(dir + "/driver.sh", "v_relax_in_ramps=1\n", R"(echo "$v_relax_C $v_relax_in_ramps" >> "$v_output/calls.txt"
 awk -v C="$v_relax_C" -v t0="$v_relax_t0" -v r="$v_relax_in_ramps" -v out="$v_output/$v_name" 'BEGIN {
-  Cm = 0.75 * C; te = r == 0 ? t0 : 2000 * t0; rec = out ".recording.csv"; pj = out ".protocol.json"
+  Cm = 0.75 * C; te = r == 0 ? t0 : )" + fmt(age) + R"( * t0; rec = out ".recording.csv"; pj = out ".protocol.json"
   print "time_s,step,axial_strain,axial_stress_Pa" > rec
   T = 0; hj = ""; st = ""
   for (k = 0; k < 4; k++) {
@@ -1178,7 +1177,8 @@ awk -v C="$v_relax_C" -v t0="$v_relax_t0" -v r="$v_relax_in_ramps" -v out="$v_ou
     ls = T
     for (t = 1e-6; t < 100; t *= 1.05) printf "%.17g,%d,%.17g,%.17g\n", ls + t, 2 * k + 1, e, s0 * (1 + t / te) ^ (-Cm) > rec
     T = ls + 100
-    hj = hj (k ? ", " : "") sprintf("{\"step\": %d, \"type\": \"hold_position\", \"lab_start_s\": %.17g, \"stress_start_Pa\": %.17g, \"fit_C\": %s}", 2 * k + 1, ls, s0, Cm > 0 ? sprintf("%.17g", Cm) : "null")
+    fit = Cm > 0 ? sprintf("\"fit_C\": %.17g, \"fit_t0_s\": %.17g", Cm, te) : "\"fit_C\": null, \"fit_t0_s\": null"
+    hj = hj (k ? ", " : "") sprintf("{\"step\": %d, \"type\": \"hold_position\", \"lab_start_s\": %.17g, \"stress_start_Pa\": %.17g, %s}", 2 * k + 1, ls, s0, fit)
     st = st (k ? ", " : "") sprintf("{\"type\": \"ramp\", \"velocity_m_s\": 1e-5, \"target_stress_Pa\": %d}, {\"type\": \"hold_position\", \"duration_s\": 100}", s0)
   }
   printf "{\"format\": \"pdpm-oedometer-protocol\", \"version\": 1, \"source\": \"simulation\", \"device\": {\"name\": \"periodic\", \"diameter_m\": 0.01, \"height_m\": 0.01, \"wall_friction\": 0}, \"material\": {\"name\": \"stand-in\"}, \"steps\": [%s], \"extra\": {\"holds\": [%s]}}\n", st, hj > pj
@@ -1193,7 +1193,6 @@ awk -v C="$v_relax_C" -v t0="$v_relax_t0" -v r="$v_relax_in_ramps" -v out="$v_ou
  "steps": [)" + steps + "]}");
     // the lab record: ramps of 10 samples, holds of 100 s sampled at 5 Hz from the stop (Eq. 4.3, C 0.03, t0 1 ms)
     Recording rec;
-    const double Clab = 0.03, t0 = 1e-3;
     double T = 0;
     for (int k = 0; k < 4; ++k) {
         const double s0 = 5000.0 * (k + 1), e = 0.01 * (k + 1);
@@ -1203,7 +1202,7 @@ awk -v C="$v_relax_C" -v t0="$v_relax_t0" -v r="$v_relax_in_ramps" -v out="$v_ou
         }
         for (int i = 1; i <= 500; ++i) {
             const double t = 0.2 * i;
-            rec.t.push_back(T + t), rec.strain.push_back(e), rec.stress.push_back(s0 * std::pow(1 + t / t0, -Clab));
+            rec.t.push_back(T + t), rec.strain.push_back(e), rec.stress.push_back(s0 * std::pow(1 + t / 1e-3, -0.03));
         }
         T += 100;
     }
@@ -1211,36 +1210,52 @@ awk -v C="$v_relax_C" -v t0="$v_relax_t0" -v r="$v_relax_in_ramps" -v out="$v_ou
     MechanismResult m;
     m.comp = kRelaxation;
     m.params = {pRelaxC, pRelaxT0};
-    m.value = {Clab, t0};
+    m.value = {0.03, 1e-3};
     r.mechanisms.push_back(m);
     DemOptions opt;
     opt.driver = dir + "/driver.sh";
     std::filesystem::create_directories(dir + "/dem");
-    const DemResult d = confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+    return confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+}
+
+TEST(ExplainCommand, DemConfirmationRelaxationLetsRampAgedContactsRelaxInHoldsOnly) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    const DemResult d = confirmRelaxationWithStandIn(dir, 2000);
     ASSERT_EQ(d.status, "done") << d.reason;
     EXPECT_EQ(d.mechanism, "contact_relaxation");
     EXPECT_EQ(d.calibrationHolds, 2);
     EXPECT_EQ(d.heldoutHolds, 2);
-    ASSERT_EQ(d.runs.size(), 4u);
+    ASSERT_EQ(d.runs.size(), 3u);
     EXPECT_EQ(d.runs[0].relaxC, 0.0);
-    EXPECT_NEAR(d.runs[1].relaxC, Clab, 1e-12);
+    EXPECT_NEAR(d.runs[1].relaxC, 0.03, 1e-12);
     EXPECT_TRUE(d.runs[1].relaxInRamps);
-    EXPECT_NEAR(d.runs[1].macro, 0.75 * Clab, 1e-9);
-    EXPECT_NEAR(d.runs[2].relaxC, Clab / 0.75, 1e-9) << "C rescaled so that the bed's C is the lab's";
-    EXPECT_TRUE(d.runs[2].relaxInRamps);
-    EXPECT_NEAR(d.runs[3].relaxC, d.runs[2].relaxC, 1e-12);
-    EXPECT_FALSE(d.runs[3].relaxInRamps);
-    EXPECT_EQ(d.chosen, 3) << "calibration errors " << d.runs[1].calibrationRmse << ", " << d.runs[2].calibrationRmse << ", "
-                           << d.runs[3].calibrationRmse;
-    EXPECT_LT(d.runs[3].calibrationRmse, 0.2 * d.runs[2].calibrationRmse);
+    EXPECT_NEAR(d.runs[1].macro, 0.75 * 0.03, 1e-9);
+    EXPECT_NEAR(d.rampAgedT0Ratio, 2000, 1e-6);
+    EXPECT_NEAR(d.runs[2].relaxC, 0.03 / 0.75, 1e-9) << "C rescaled so that the bed's C is the lab's";
+    EXPECT_FALSE(d.runs[2].relaxInRamps) << "run a's holds relaxed on the aged contacts' time scale";
+    EXPECT_EQ(d.chosen, 2);
     EXPECT_LT(d.heldoutAugmented, 0.01 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
-    EXPECT_LT(d.runs[2].heldoutRmse, d.heldoutBaseline) << "relaxing, even in aged contacts, beats no relaxation";
-    const std::string calls = readWholeFile(dir + "/dem/calls.txt");
-    EXPECT_NE(calls.find(fmt(Clab / 0.75) + " 0"), std::string::npos) << calls;
+    EXPECT_LT(d.runs[1].heldoutRmse, d.heldoutBaseline) << "relaxing, even in aged contacts, beats no relaxation";
+    EXPECT_NE(readWholeFile(dir + "/dem/calls.txt").find(fmt(0.03 / 0.75) + " 0"), std::string::npos);
     const Json j = demJson(d);
-    EXPECT_EQ(j.at("chosen_run").asString(), "dem_relax_c");
-    EXPECT_FALSE(j.at("runs").asArray("runs")[3].at("relax_in_ramps").asBool());
+    EXPECT_EQ(j.at("chosen_run").asString(), "dem_relax_b");
+    EXPECT_FALSE(j.at("runs").asArray("runs")[2].at("relax_in_ramps").asBool());
+    EXPECT_NEAR(j.at("run_a_hold_t0_over_contact_t0").asNumber(), 2000, 1e-6);
     EXPECT_NE(demMarkdown(d).find("in the holds only"), std::string::npos);
+}
+
+TEST(ExplainCommand, DemConfirmationRelaxationKeepsRampRelaxationWhenHoldsKeepTheirT0) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    const DemResult d = confirmRelaxationWithStandIn(dir, 1);
+    ASSERT_EQ(d.status, "done") << d.reason;
+    ASSERT_EQ(d.runs.size(), 3u);
+    EXPECT_NEAR(d.rampAgedT0Ratio, 1, 1e-9);
+    EXPECT_TRUE(d.runs[2].relaxInRamps);
+    EXPECT_EQ(d.chosen, 2);
+    EXPECT_LT(d.heldoutAugmented, 0.01 * d.heldoutBaseline);
+    EXPECT_NE(demMarkdown(d).find("in the ramps as well as in the holds"), std::string::npos);
 }
 
 // The plasticity DEM confirmation against a stand-in driver (a shell script) whose "DEM" record is

@@ -105,6 +105,10 @@ inline constexpr double kMaxKcOverK = 2;
 inline constexpr double kMaxWallFriction = 1.5;
 /// Smallest wall friction coefficient of the first augmented wall_friction run.
 inline constexpr double kMinWallFrictionGuess = 0.2;
+/// contact_relaxation: when run a's DEM holds (contacts relaxing in the ramps too) fit a t0 more than
+/// this many times the contact t0 (median over the calibration holds), the ramp has aged the contacts
+/// and run b lets them relax in the holds only (measured on the thesis reconstructions: cocoa 1.23, limestone 547).
+inline constexpr double kRampAgedT0Ratio = 3;
 /// Mean particle diameter of the DEM runs (m; the driver's --d_mean, cocoa).
 inline constexpr double kDemMeanDiameter = 2.5e-3;
 /// Mould diameter of a wall_friction DEM run in `fast` mode, in mean particle diameters (the height
@@ -193,6 +197,8 @@ struct DemResult {
     /// plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches);
     /// stiffness_nonlinearity: the recording's unloading curvature (calibration branches)
     double labMacro = -1;
+    /// contact_relaxation: run a's fitted hold t0 over the contact t0, median over the calibration holds (-1: no fit)
+    double rampAgedT0Ratio = -1;
     double surrogateValue = -1;  ///< stiffness_nonlinearity: the explainer's exponent n
     double mouldDiameter = 0, mouldHeight = 0;  ///< wall_friction: the DEM mould (m)
     double recordingAspect = 0;  ///< wall_friction: the recording's H/D (the mould's differs where it cannot be kept)
