@@ -21,6 +21,13 @@ for arg in "$@"; do
   esac
 done
 
+# ctest runs two tests at once on two cores, and each kernel test opens two OpenMP threads. With
+# libgomp's default (active) waiting, a thread spins at every barrier while its partner is
+# descheduled by the other test: CgInSitu took 0.7 s alone and 40 s (Release) to over 300 s
+# (sanitizers, CI time-out, 2026-12-06) side by side. Passive waiting sleeps instead; results are
+# unchanged (the schedules are static), only the waiting differs. Unit and self-tests set it too.
+export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-PASSIVE}"
+
 run_normal() {
   scripts/build.sh
   echo "== test.sh: normal suite (build/)" >&2
