@@ -75,6 +75,23 @@ ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
         in.holdStressRef = holds > 0 ? std::exp(sumLog / holds) : 0.5 * in.stressMax;
     }
     in.duration = std::max(rec.t.back() - rec.t.front(), 1e-12);
+    {  // one loading speed between holds, nothing else (rateChangesOnlyAtStops)
+        bool others = std::find(in.creep.begin(), in.creep.end(), char(1)) != in.creep.end();
+        double vmin = 0, vmax = 0;
+        for (const auto& s : detectPhases(rec.t, rec.strain)) {
+            if (s.phase == Phase::Hold) continue;
+            if (s.phase != Phase::Load || s.end <= s.begin) {
+                others = true;
+                continue;
+            }
+            std::vector<double> r(in.rate.begin() + long(s.begin), in.rate.begin() + long(s.end));
+            std::nth_element(r.begin(), r.begin() + long(r.size() / 2), r.end());
+            const double v = r[r.size() / 2];
+            vmin = vmax == 0 ? v : std::min(vmin, v);
+            vmax = std::max(vmax, v);
+        }
+        in.rateChangesOnlyAtStops = !others && vmin > 0 && vmax <= 1.2 * vmin;
+    }
     return in;
 }
 

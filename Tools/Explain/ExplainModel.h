@@ -102,6 +102,12 @@ struct ModelInput {
     /// reference stress of relaxation_stress_dependence: geometric mean of the recorded stress at the
     /// first sample of every hold with a positive stress (stressMax / 2 when there is none)
     double holdStressRef = 0.5;
+    /// The record's strain rate changes only where the piston stops or starts: loads at one speed
+    /// (the median rates of all Load phases within 20 % of each other) and holds, no unloading, reload
+    /// or creep step. There the viscous step of rate_dependence at a hold's start is the fast first
+    /// drop of contact relaxation, and its step at a ramp's start the reload's stiffness: the protocol
+    /// cannot tell them apart, so rate_dependence is not screened (Explain.cc, screenCandidate).
+    bool rateChangesOnlyAtStops = false;
     /// the protocol's device.zero_before_contact: first contact (eps0)
     /// at or after the first sample's strain: the bed is not loaded before the record begins
     bool contactAtStart = false;
