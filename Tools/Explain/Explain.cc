@@ -124,6 +124,10 @@ const char* missingSegment(int c) {
     }
 }
 
+/// Whether a fitted value sits at its parameter's upper / lower bound (within 1e-6 of the range).
+bool atUpperBound(const ParDef& d, double v) { return v >= d.hi - 1e-6 * (d.hi - d.lo); }
+bool atLowerBound(const ParDef& d, double v) { return v <= d.lo + 1e-6 * (d.hi - d.lo); }
+
 struct Fitter {
     const Model& model;
     const std::vector<double>& y;
@@ -992,7 +996,7 @@ bool dropWallFrictionAtBound(Selection& s, ExplainResult& R) {
     // not pin it (ExplainBottomSensor.DecidesBetweenWallFrictionAndItsLookAlike: T = 0.75)
     if (R.bottom.says == "wall_friction_present") return false;
     const ParDef& d = s.M.defs()[pMuK];
-    if (s.cur.p[pMuK] < d.hi - 1e-6 * (d.hi - d.lo)) return false;
+    if (!atUpperBound(d, s.cur.p[pMuK])) return false;
     const auto it = std::find(s.accepted.begin(), s.accepted.end(), int(kWallFriction));
     if (it == s.accepted.end()) return false;  // in the baseline (MODEL.json): the user's choice
     Without w = withoutMechanism(s, R, kWallFriction);
@@ -1081,7 +1085,7 @@ bool testRelaxStress(Selection& s, ExplainResult& R, const std::vector<int>& fol
     T.holdsBeta = ph.beta;
     T.holdsBetaSe = ph.betaSe;
     const ParDef& d = s.M.defs()[pRelaxBeta];
-    const bool atBound = T.beta <= d.lo + 1e-6 * (d.hi - d.lo) || T.beta >= d.hi - 1e-6 * (d.hi - d.lo);
+    const bool atBound = atLowerBound(d, T.beta) || atUpperBound(d, T.beta);
     const bool holdsShow = std::isfinite(ph.beta) && std::isfinite(ph.betaSe) && ph.betaSe > 0 && std::abs(ph.beta) > 2 * ph.betaSe;
     const bool holdsAgree = holdsShow && T.beta * ph.beta > 0;
     if (T.dBIC < s.opt.bicThreshold) T.why = "rejected: dBIC " + num(T.dBIC, 3) + " < " + num(s.opt.bicThreshold, 3);
@@ -1343,7 +1347,7 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             // an orthogonal fraction of 0.0015 in round 3)
             if (cd.comp == kWallFriction && !opt.forceBest && !wallSeen) {
                 const ParDef& d = M.defs()[pMuK];
-                if (cd.p[pMuK] >= d.hi - 1e-6 * (d.hi - d.lo)) {
+                if (atUpperBound(d, cd.p[pMuK])) {
                     cd.note = "rejected: muK ends at its bound " + num(d.hi, 3) +
                               " (beyond a wall friction: mu_w K is below about 1), so it stands in for another shape";
                     continue;

@@ -42,7 +42,8 @@ ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
     const std::size_t n = rec.size();
     in.rate = smoothedRate(rec.t, rec.strain, std::max(1, int(n / 800)));
     in.hold.assign(n, 0);
-    for (const auto& s : detectPhases(rec.t, rec.strain))
+    const std::vector<PhaseSegment> phases = detectPhases(rec.t, rec.strain);
+    for (const auto& s : phases)
         if (s.phase == Phase::Hold) {
             // The hold begins at its first sample at the hold's strain (holdExtent): the phase detector
             // finds it several samples late, and a hold whose t0 is below the sampling interval loses
@@ -77,8 +78,9 @@ ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
     in.duration = std::max(rec.t.back() - rec.t.front(), 1e-12);
     {  // one loading speed between holds, nothing else (rateChangesOnlyAtStops)
         bool others = std::find(in.creep.begin(), in.creep.end(), char(1)) != in.creep.end();
+        bool anyLoad = false;
         double vmin = 0, vmax = 0;
-        for (const auto& s : detectPhases(rec.t, rec.strain)) {
+        for (const auto& s : phases) {
             if (s.phase == Phase::Hold) continue;
             if (s.phase != Phase::Load || s.end <= s.begin) {
                 others = true;
@@ -87,10 +89,11 @@ ModelInput makeModelInput(const Recording& rec, const Protocol& proto) {
             std::vector<double> r(in.rate.begin() + long(s.begin), in.rate.begin() + long(s.end));
             std::nth_element(r.begin(), r.begin() + long(r.size() / 2), r.end());
             const double v = r[r.size() / 2];
-            vmin = vmax == 0 ? v : std::min(vmin, v);
-            vmax = std::max(vmax, v);
+            vmin = anyLoad ? std::min(vmin, v) : v;
+            vmax = anyLoad ? std::max(vmax, v) : v;
+            anyLoad = true;
         }
-        in.rateChangesOnlyAtStops = !others && vmin > 0 && vmax <= 1.2 * vmin;
+        in.rateChangesOnlyAtStops = anyLoad && !others && vmin > 0 && vmax <= 1.2 * vmin;
     }
     return in;
 }
