@@ -293,12 +293,16 @@ private:
         if (holdClock_ == "linear") return timeScale_;
         return (relaxT0_ + (labTime_ - stepLabStart_)) / holdTau_;
     }
-    /// Lab seconds per DEM second of the recording's clock (s) and of the contacts' relaxation clocks
-    /// (s, or 0 where the step does not relax).
+    /// Lab seconds per DEM second of the recording's clock and the contacts' viscous branches (s) and
+    /// of the contacts' relaxation clocks (s, or 0 where the step does not relax).
     void setLabScale(double s, bool relaxing = true) {
         labScale_ = s;
         for (int a = 0; a < species().size(); ++a)
-            for (int b = 0; b < species().size(); ++b) species().pairMutable(a, b).relaxTimeScale = relaxing ? s : 0.0;
+            for (int b = 0; b < species().size(); ++b) {
+                ContactParameters& c = species().pairMutable(a, b);
+                c.relaxTimeScale = relaxing ? s : 0.0;
+                c.viscTimeScale = s;
+            }
     }
     /// Whether contacts relax during a step: always in holds, in ramps and unloads with relax_in_ramps.
     bool relaxes(const recording::Step& st) const {

@@ -42,6 +42,8 @@ public:
         p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
         p.add("wall_kc_over_k", &wallKcOverK_, 0, "-", "Luding adhesion of the particle-wall pairs (bottom, piston, mould): kc/k (0: walls are not sticky; an unload into tension, unload:V:S with S < 0, pulls on the bed only with sticky walls and adhesive, plastic contacts, else it ends at lift-off)", Range::nonNegative());
         p.add("hertz_modulus", &hertzModulus_, 0, "Pa", "Hertz contacts: effective Young's modulus E* of a Hertzian normal force in place of Luding's (0: Luding; needs --k_over_k1 1 --kc_over_k 0; the other parts of the law stay)", Range::nonNegative());
+        p.add("contact_viscous_time", &viscTime_, 0, "s", "contact viscosity on the lab clock: viscous time tau_v of a Maxwell branch, contact force k tau_v d(delta)/dt_lab at a steady lab rate (0: off; switches luding-relax to luding-relax-viscous)", Range::nonNegative());
+        p.add("viscous_stiffness_ratio", &viscRatio_, 4, "-", "stiffness of the viscous branch's spring over k: its lag is tau_v / ratio lab seconds, and the time step falls by sqrt(1 + ratio)", Range::positive());
         p.add("normal_stiffness_scale", &normalScale_, 1, "-", "multiplies the material's normal contact stiffnesses k, k1, kc (the normal dashpot by its square root: the same restitution); tangential, rolling, torsion springs stay", Range::positive());
         p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());
         p.add("pour_drag_time", &pourDragTime_, 0.1, "s", "drag time of the particles falling while filling (mass-proportional drag; terminal speed g x this)", Range::positive());
@@ -71,7 +73,9 @@ protected:
             c->relaxC = relaxC_;
             c->relaxT0 = relaxT0_;
             c->relaxMemory = relaxMemory_;
-            c->relaxTimeScale = 0;  // no lab time passes while filling
+            c->relaxTimeScale = c->viscTimeScale = 0;  // no lab time passes while filling
+            c->viscTime = viscTime_;
+            c->viscStiffnessRatio = viscRatio_;
         }
         const double rMean = 0.5 * dMean_;
         // r_max / r_min = sizeRatio with mean radius rMean (uniform distribution)
@@ -156,7 +160,7 @@ protected:
             inputError("restart file: mould wall or poured count out of range");
         ConfinedCompression::actionsOnRestart();
         loadMaterial();
-        checkHertzLaw(*this);
+        checkLaw(*this);
     }
 
     void actionsBeforeTimeLoop() override {
@@ -208,7 +212,8 @@ protected:
                                    {"mu_r", mat_.pp.muR},
                                    {"relax_C", relaxC_},
                                    {"relax_t0_s", relaxT0_},
-                                   {"relax_memory", relaxMemory_}});
+                                   {"relax_memory", relaxMemory_},
+                                   {"contact_viscous_time_s", viscTime_}});
         extra.set("particles", static_cast<double>(particles().size()));
         extra.set("geometry", geometry_);
         extra.set("fill_wall_friction", fillMuWall_ >= 0 ? fillMuWall_ : muWall_);  // mu_w while the bed was poured
@@ -217,13 +222,23 @@ protected:
 
 private:
     bool cylinder() const { return geometry_ == "cylinder"; }
-    /// --contact_law, or with --hertz_modulus the same law parts around a Hertzian normal force.
-    std::string lawName() const { return hertzModulus_ > 0 ? "hertz-rolling-relax" : parameters().get("contact_law"); }
-    /// --hertz_modulus needs the Hertz law in use (not one given by --contact_law or a restart file).
-    void checkHertzLaw(const DPMBase& d) const {
-        if (hertzModulus_ > 0 && d.contactLaw().name() != "hertz-rolling-relax")
-            inputError("--hertz_modulus: the contact law in use is '" + d.contactLaw().name() +
+    /// --contact_law, or with --hertz_modulus the same law parts around a Hertzian normal force, or
+    /// with --contact_viscous_time luding-relax with the viscous branch.
+    std::string lawName() const {
+        if (hertzModulus_ > 0) return "hertz-rolling-relax";
+        const std::string law = parameters().get("contact_law");
+        return viscTime_ > 0 && law == "luding-relax" ? "luding-relax-viscous" : law;
+    }
+    /// --hertz_modulus and --contact_viscous_time need their law in use (not another one given by
+    /// --contact_law or a restart file).
+    void checkLaw(const DPMBase& d) const {
+        const std::string law = d.contactLaw().name();
+        if (hertzModulus_ > 0 && law != "hertz-rolling-relax")
+            inputError("--hertz_modulus: the contact law in use is '" + law +
                        "' (from --contact_law or the restart file); Hertz contacts need hertz-rolling-relax");
+        if (viscTime_ > 0 && (law.size() < 8 || law.compare(law.size() - 8, 8, "-viscous") != 0))
+            inputError("--contact_viscous_time: the contact law in use is '" + law +
+                       "' (from --contact_law, --hertz_modulus or the restart file); the viscosity needs a '-viscous' law (luding-relax-viscous)");
     }
     /// Material preset from the parameters (also after a restart).
     void loadMaterial() {
@@ -264,12 +279,13 @@ private:
     void setupSpecies(DPMBase& d, double relaxC, bool settling = false) {
         ContactParameters pp = mat_.pp, pw = mat_.pw;
         pp.relaxC = pw.relaxC = relaxC;
-        if (settling) {
+        if (settling) {  // (no lab time passes while pouring: no viscous branch, and its time step)
             pp.kc = pw.kc = 0;
+            pp.viscTime = pw.viscTime = 0;
             if (fillMuWall_ >= 0) pw.muS = pw.muD = fillMuWall_;
         }
         d.setContactLaw(lawName());
-        checkHertzLaw(d);
+        checkLaw(d);
         const int a = d.addSpecies(mat_.name, mat_.density, pp);
         const int w = d.addSpecies("wall", mat_.density, pp);
         d.setPairParameters(a, w, pw);
@@ -281,7 +297,8 @@ private:
 
     std::string geometry_, device_, material_;
     double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0;
-    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, wallKcOverK_ = 0, fillMuWall_ = -1, hertzModulus_ = 0, normalScale_ = 1;
+    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, wallKcOverK_ = 0, fillMuWall_ = -1, hertzModulus_ = 0, normalScale_ = 1,
+           viscTime_ = 0, viscRatio_ = 4;
     bool gravityOn_ = true;
     OedometerMaterial mat_;
     long mouldWall_ = -1;

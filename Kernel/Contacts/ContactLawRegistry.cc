@@ -4,6 +4,7 @@
 
 #include "Contacts/ComposedLaw.h"
 #include "Contacts/RelaxationLaws.h"
+#include "Contacts/ViscousLaws.h"
 #include "Core/Error.h"
 
 namespace pdpm {
@@ -32,6 +33,8 @@ const std::map<std::string, Entry>& registry() {
         {"hertz-mindlin-relax", law<Relaxing<NormalHertz>, TangentialMindlin, NoPart, NoPart>("Hertz-Mindlin with the time-dependent relaxation of Eq. 4.1")},
         {"hertz-rolling-relax", law<Relaxing<NormalHertz>, TangentialCoulomb, RollingResistance, TorsionResistance>("Hertz normal force + linear sliding, rolling and torsion friction (the parts of luding-relax around a Hertz normal force), with the time-dependent relaxation of Eq. 4.1")},
         {"luding-relax", law<Relaxing<NormalLuding>, TangentialCoulomb, RollingResistance, TorsionResistance>("Luding + sliding, rolling, torsion friction, with the time-dependent relaxation of Eq. 4.1")},
+        {"linear-relax-viscous", law<LabViscous<Relaxing<NormalLinear>>, TangentialCoulomb, NoPart, NoPart>("linear-relax + a contact viscosity on the lab clock (Maxwell branch: viscTime, viscStiffnessRatio, viscTimeScale)")},
+        {"luding-relax-viscous", law<LabViscous<Relaxing<NormalLuding>>, TangentialCoulomb, RollingResistance, TorsionResistance>("luding-relax + a contact viscosity on the lab clock (Maxwell branch: viscTime, viscStiffnessRatio, viscTimeScale)")},
     };
     return r;
 }

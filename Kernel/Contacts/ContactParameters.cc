@@ -19,11 +19,13 @@ double effectiveShearModulus(double e1, double nu1, double e2, double nu2) {
 }
 
 namespace {
+/// The fields in file order; `version` is the restart format (the viscous fields since version 5).
 template <class P, class F>
-void forEachField(P& p, F&& f) {
+void forEachField(P& p, F&& f, int version = 5) {
     f(p.k); f(p.gamma); f(p.k1); f(p.kc); f(p.phiF); f(p.youngEff); f(p.shearEff); f(p.restitution);
     f(p.kt); f(p.gammaT); f(p.muS); f(p.muD); f(p.kr); f(p.gammaR); f(p.muR); f(p.ko); f(p.gammaO); f(p.muO);
     f(p.relaxC); f(p.relaxT0); f(p.relaxTimeScale); f(p.relaxMemory);
+    if (version >= 5) { f(p.viscTime); f(p.viscStiffnessRatio); f(p.viscTimeScale); }
 }
 } // namespace
 
@@ -32,7 +34,7 @@ void writeContactParameters(std::ostream& os, const ContactParameters& p) {
     forEachField(p, [&](double v) { os << ' ' << fmt(v); });
 }
 
-ContactParameters readContactParameters(std::istream& is) {
+ContactParameters readContactParameters(std::istream& is, int restartVersion) {
     ContactParameters p;
     int d = 0;
     is >> d;
@@ -41,7 +43,7 @@ ContactParameters readContactParameters(std::istream& is) {
     forEachField(p, [&](double& v) {
         v = readDouble(is);
         nan = nan || std::isnan(v);
-    });
+    }, restartVersion);
     if (!is || nan) inputError("restart: malformed contact parameters");
     return p;
 }

@@ -43,11 +43,19 @@ struct ContactParameters {
     /// load increase; m > 0: it is shortened by the factor (f_ref/f_new)^(1/m) instead, so a contact
     /// reloaded by a small fraction keeps most of its age (Contacts/RelaxationLaws.h).
     double relaxMemory = 0;
+
+    // ---- contact viscosity on the lab clock (Contacts/ViscousLaws.h); viscTime = 0 switches it off
+    double viscTime = 0;            ///< viscous time tau_v of the Maxwell branch (lab seconds), eta = k tau_v
+    double viscStiffnessRatio = 4;  ///< M = k_m / k of the branch's spring (> 0); its lag is tau_v / M
+    /// Lab seconds per DEM second of the viscous branch's clock (like relaxTimeScale, but a driver may
+    /// stop the relaxation clocks in ramps while lab time, and so the lab rate, still runs there).
+    double viscTimeScale = 1;
 };
 
 /// All numeric fields in a fixed order (restart files); `defined` first.
 void writeContactParameters(std::ostream& os, const ContactParameters& p);
-ContactParameters readContactParameters(std::istream& is);
+/// Reads what writeContactParameters wrote; `restartVersion` 4 files lack the viscous fields (defaults).
+ContactParameters readContactParameters(std::istream& is, int restartVersion);
 
 /// Effective modulus of two Hertzian materials: 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2.
 double effectiveYoungModulus(double e1, double nu1, double e2, double nu2);

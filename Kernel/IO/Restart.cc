@@ -17,7 +17,8 @@ namespace pdpm {
 
 namespace {
 constexpr const char* kMagic = "PowderDPM-restart";
-constexpr int kVersion = 4;  // 3: walls carry their last force and torque; 4: relaxMemory
+constexpr int kVersion = 5;  // 3: walls carry their last force and torque; 4: relaxMemory; 5: viscTime, viscStiffnessRatio, viscTimeScale
+constexpr int kOldestVersion = 4;  // version 4 files read with the viscous fields at their defaults (off)
 
 void expect(std::istream& is, const std::string& tag, const std::string& file) {
     std::string t;
@@ -134,9 +135,9 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     std::string magic;
     int version = 0;
     is >> magic >> version;
-    if (version != kVersion)
+    if (version < kOldestVersion || version > kVersion)
         inputError("restart file " + path + ": version " + std::to_string(version) + " not supported (expected " +
-                   std::to_string(kVersion) + ")");
+                   std::to_string(kOldestVersion) + " to " + std::to_string(kVersion) + ")");
     std::string prog, lawName;
     int hsize = 0;
     expect(is, "program", path);
@@ -220,7 +221,7 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
             int ia = -1, ib = -1;
             is >> ia >> ib;
             if (ia != a || ib != b) inputError("restart file " + path + ": malformed species pair table");
-            ContactParameters p = readContactParameters(is);
+            ContactParameters p = readContactParameters(is, version);
             if (p.defined) species_.setPair(a, b, p);
             else species_.pairMutable(a, b) = species_.pairMutable(b, a) = p;
         }

@@ -11,6 +11,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <numbers>
 #include <random>
 #include <string>
@@ -20,6 +22,7 @@
 #include "Contacts/ContactParameters.h"
 #include "Core/DPMBase.h"
 #include "Core/Parameters.h"
+#include "IO/RestartSeal.h"
 #include "Walls/Wall.h"
 
 using namespace pdpm;
@@ -196,6 +199,53 @@ TEST(KernelRestart, WriteAndReadRestartRoundTripsTheState) {
     EXPECT_EQ(b.time(), a.time());
     EXPECT_EQ(b.step(), a.step());
     EXPECT_EQ(b.timeStep(), a.timeStep());
+    std::filesystem::remove_all(dir);
+}
+
+// Format version 4 (before the contact viscosity's three parameters) is still read, with the
+// viscosity off: the file of a run is rewritten as version 4 (header, pair lines without their last
+// three numbers, checksum resealed) and read back to the same state.
+TEST(KernelRestart, ReadsVersion4FilesWithTheViscosityOff) {
+    const std::string dir = "KernelRestartVersion4";
+    std::filesystem::remove_all(dir);
+    PackingDriver a(6, 5, 5, true);
+    ASSERT_EQ(runWith(a, {"--output", dir, "--quiet", "--name", "a", "--steps", "50"}), 0);
+    std::stringstream text;
+    text << std::ifstream(dir + "/a.restart").rdbuf();
+    std::istringstream in(text.str());
+    std::string line, v4;
+    bool pairs = false;
+    int trimmed = 0;
+    for (int no = 0; std::getline(in, line); ++no) {
+        if (no == 0) {
+            ASSERT_EQ(line, "PowderDPM-restart 5");
+            line = "PowderDPM-restart 4";
+        } else if (line.rfind("species ", 0) == 0) {
+            pairs = true;
+        } else if (line.rfind("walls ", 0) == 0) {
+            pairs = false;
+        } else if (pairs) {
+            std::istringstream ls(line);
+            std::vector<std::string> tok;
+            for (std::string t; ls >> t;) tok.push_back(t);
+            if (tok.size() == 28) {  // A B DEFINED + 25 parameters: drop viscTime, viscStiffnessRatio, viscTimeScale
+                line.clear();
+                for (std::size_t k = 0; k < 25; ++k) line += (k ? " " : "") + tok[k];
+                ++trimmed;
+            }
+        }
+        v4 += line + "\n";
+    }
+    ASSERT_GT(trimmed, 0);
+    v4 = resealRestartText(v4);
+    ASSERT_FALSE(v4.empty());
+    std::ofstream(dir + "/v4.restart") << v4;
+    PackingDriver b(6, 5, 5, true);
+    b.readRestart(dir + "/v4.restart");
+    EXPECT_EQ(countDifferences(a.particles(), b.particles()), 0);
+    EXPECT_EQ(b.time(), a.time());
+    EXPECT_EQ(b.species().pair(0, 0).viscTime, 0.0);
+    EXPECT_EQ(b.species().pair(0, 0).k, a.species().pair(0, 0).k);
     std::filesystem::remove_all(dir);
 }
 

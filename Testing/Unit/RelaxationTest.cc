@@ -16,6 +16,7 @@
 
 #include "Contacts/ContactLaw.h"
 #include "Contacts/RelaxationLaws.h"
+#include "SingleContact.h"
 
 using namespace pdpm;
 
@@ -62,30 +63,9 @@ ContactParameters ludingParams(double C, double t0, double scale) {
     return p;
 }
 
-ContactState state(double overlap, double dt, double rate = 0) {
-    ContactState s;
-    s.n = {0, 0, 1};
-    s.overlap = overlap;
-    s.overlapRate = rate;
-    s.mEff = 1e-3;
-    s.rEff = 1e-3;
-    s.dt = dt;
-    return s;
-}
-
 // History of a composed law: the normal part's doubles come first; for Relaxing<NormalLinear> and
 // Relaxing<NormalHertz> (no base history) h[0] = delta_p, h[1] = clock, h[2] = f_ref, h[3] = W_relax.
-struct Contact {
-    const ContactLaw& law;
-    ContactParameters p;
-    std::vector<double> h;
-    Contact(const ContactLaw& l, const ContactParameters& pp) : law(l), p(pp), h(l.historySize(), 0.0) {}
-    ContactOutput step(double overlap, double dt, double rate = 0) {
-        ContactOutput o;
-        law.evaluate(p, state(overlap, dt, rate), h.data(), o);
-        return o;
-    }
-};
+using Contact = test::SingleContact;
 
 /// Load in one step to `delta`, then hold for `n` steps; return the largest relative deviation from
 /// Eq. (4.3) (clock in lab seconds = steps * dt * scale).

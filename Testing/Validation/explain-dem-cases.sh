@@ -9,7 +9,8 @@
 # minutes of DEM per run); PDPM_DEM_FAMILY=creep the creep family (the relaxation family's bed with
 # every hold at constant stress: contact relaxation seen as creep); PDPM_DEM_FAMILY=cohesion the
 # cohesion family (the relaxation family's bed, its unload a lift-off test, adhesive contacts and sticky
-# walls against none). Writes summary.md; with --update-doc replaces the family's measured
+# walls against none); PDPM_DEM_FAMILY=rate_dependence the rate family (the relaxation family's bed and
+# protocol, a contact viscosity on the lab clock against none). Writes summary.md; with --update-doc replaces the family's measured
 # section of Documentation/tools-explain.md. Fails when a run fails, or when a null twin is called
 # missing physics (above 5 %; with 4 cases per SNR that is any null), or nothing is detected, or fewer
 # than 90 % of the detections name the right mechanism (met by every family); the other figures rest on 2-4 cases per SNR and are reported, not gated.
@@ -21,7 +22,8 @@ case "$FAMILY" in
   wall_friction) MARK=dem-wall-cases; DIR=dem-wall-cases ;;
   creep) MARK=dem-creep-cases; DIR=dem-creep-cases ;;
   cohesion) MARK=dem-cohesion-cases; DIR=dem-cohesion-cases ;;
-  *) echo "PDPM_DEM_FAMILY must be contact_relaxation, wall_friction, creep or cohesion" >&2; exit 2 ;;
+  rate_dependence) MARK=dem-rate-cases; DIR=dem-rate-cases ;;
+  *) echo "PDPM_DEM_FAMILY must be contact_relaxation, wall_friction, creep, cohesion or rate_dependence" >&2; exit 2 ;;
 esac
 "$BIN/pdpm-explain-bench" --output "$OUT/$DIR" --reps 0 --nulls 0 --forced 0 --extras 0 --dem_cases "$N" --dem_snr 3,5 \
   --dem_families "$FAMILY" --samples 2000 > "$OUT/$DIR.log"

@@ -95,7 +95,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     checkDemCaseFamily(family, "dem-case: --family");
     if (spec.kind != "null" && spec.kind != family)
         inputError("dem-case: a " + spec.kind + " case cannot belong to the " + family + " family");
-    const bool wall = family == "wall_friction", creep = family == "creep", coh = family == "cohesion";
+    const bool wall = family == "wall_friction", creep = family == "creep", coh = family == "cohesion", visc = family == "rate_dependence";
     if (spec.bottomSensor && !wall) inputError("dem-case: a bottom stress sensor belongs to the wall_friction family");
     if (!(spec.snr > 0)) inputError("dem-case: --snr must be positive");
     const bool positive = spec.kind != "null";
@@ -111,12 +111,23 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     const double pull = coh ? -uni(0.04, 0.08) * 3 * s1 : 0.0;
     const std::string H = creep ? ",creep:" : ",hold:";
     std::ostringstream steps;
+    if (visc) {
+        // rate_dependence: the evidence is where the rate changes without a stop (a hold's drop alone a
+        // free loading curve absorbs, its knots sitting at the hold strains): a slow first ramp that
+        // speeds up five-fold half way, a hold, a slow ramp, a fast unload and a fast reload; holds
+        // shorter than the relaxation family's, so that the ramps carry more of the samples
+        const double vs = 1e-5, vf = 5 * vs, h = hold / 4;
+        steps << "ramp:" << fmt(vs) << ':' << fmt(s1) << ",ramp:" << fmt(vf) << ':' << fmt(2 * s1) << ",hold:" << fmt(h) << ",ramp:"
+              << fmt(vs) << ':' << fmt(3 * s1) << ",unload:" << fmt(vf) << ':' << fmt(su) << ",ramp:" << fmt(vf) << ':' << fmt(3 * s1)
+              << ",hold:" << fmt(0.5 * h);
+    } else
     steps << "ramp:" << fmt(v) << ':' << fmt(s1) << H << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(2 * s1) << H
           << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(hold) << ",unload:" << fmt(v) << ':' << fmt(coh ? pull : su)
           << (coh ? H + fmt(0.5 * hold) : std::string()) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(0.5 * hold);
     const double C = uni(0.02, 0.08), t0 = std::pow(10.0, uni(-1, std::log10(2.0)));
     const double muW = wall ? uni(0.15, 0.45) : 0.0;  // only in the wall family: the relaxation family's draws stay as they were
     const double kc = coh ? uni(0.5, 1.0) : 0.0;       // cohesion: kc/k of the particle pairs and of the walls
+    const double tauV = visc ? uni(0.05, 0.5) : 0.0;   // rate_dependence: the contacts' viscous time (lab s)
     // the wall_friction family's mould (H/D = 1)
     const double mould = 12 * kDemMeanDiameter;
 
@@ -140,6 +151,8 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
                 << fmt(mould) << " --d_mean " << fmt(kDemMeanDiameter) << " --fill_wall_friction 0 --ramp_rate 1 --wall_friction " << fmt(value);
         else if (coh)
             cmd << " --relax_C 0 --kc_over_k " << fmt(value) << " --wall_kc_over_k " << fmt(value);
+        else if (visc)
+            cmd << " --relax_C 0 --contact_viscous_time " << fmt(value);
         else
             cmd << " --relax_C " << fmt(value) << " --relax_t0 " << fmt(t0);
         if (!coh) cmd << " --kc_over_k 0";
@@ -160,7 +173,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     };
     // both runs for every case: the null case is the positive case's twin without the mechanism,
     // with the same noise level (set by the mechanism's effect)
-    const auto [with, protoWith] = run("with", wall ? muW : coh ? kc : C);
+    const auto [with, protoWith] = run("with", wall ? muW : coh ? kc : visc ? tauV : C);
     const auto [without, protoWithout] = run("without", 0.0);
     const Recording& shown = positive ? with : without;
     // the effect of each run on its own samples (creep: tangent x creep strain; cohesion: the tension,
@@ -174,7 +187,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     };
     const std::vector<double> effWith = creep ? creepEffect(with, protoWith) : coh ? tensionOf(with) : with.stress;
     const std::vector<double> effWithout = creep ? creepEffect(without, protoWithout) : coh ? tensionOf(without) : without.stress;
-    if ((creep || coh) && (with.step.size() != with.t.size() || without.step.size() != without.t.size()))
+    if ((creep || coh || visc) && (with.step.size() != with.t.size() || without.step.size() != without.t.size()))
         inputError("dem-case: the DEM record has no step column");
     const auto stepsWith = stepTimes(with, protoWith.steps.size()), stepsWithout = stepTimes(without, protoWithout.steps.size());
 
@@ -216,7 +229,9 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         // "without" run at the same time since the same step began; its ramps are shorter)
         const double tw = with.t.front() + Tw * j / (m - 1);
         double two = tw;
-        if (creep || coh) {  // cohesion: the "without" run lifts off sooner, and the steps after it start earlier
+        // cohesion: the "without" run lifts off sooner, and the steps after it start earlier; rate_dependence:
+        // the viscous "with" run reaches each target stress sooner
+        if (creep || coh || visc) {
             const auto k = static_cast<std::size_t>(std::upper_bound(with.t.begin(), with.t.end(), tw) - with.t.begin());
             const auto st = static_cast<std::size_t>(with.step[k > 0 ? k - 1 : 0]);
             if (st < stepsWith.size() && st < stepsWithout.size() && stepsWithout[st].first >= 0)
@@ -273,6 +288,8 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         tr.set("null_twin_of_contact_C", positive ? Json() : Json(C));
     } else if (coh) {
         tr.set("null_twin_of_kc_over_k", positive ? Json() : Json(kc));
+    } else if (visc) {
+        tr.set("null_twin_of_contact_viscous_time", positive ? Json() : Json(tauV));
     } else {
         tr.set("null_twin_of_contact_C", positive ? Json() : Json(C));
         // the bed's own hold relaxation (rearrangements, damping), present in both runs
@@ -296,6 +313,12 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         tr.set("primary_value", tension);
         tr.set("primary_off", 0.0);
         tr.set("primary_definition", "largest tension (Pa) of the noise-free DEM record's lift-off unload");
+    } else if (positive && visc) {
+        tp.set("tau_v", tauV);
+        tr.set("primary_parameter", demFamilyPrimary(family));
+        tr.set("primary_value", tauV);
+        tr.set("primary_off", 0.0);
+        tr.set("primary_definition", "the contacts' viscous time (lab s); the surrogate's tau_v is macroscopic and several times larger");
     } else if (positive) {
         tp.set("C", C);
         tp.set("t0", t0);
@@ -366,7 +389,8 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
         unsigned long s = family == "contact_relaxation" ? seed * 1000
                           : family == "wall_friction"    ? seed * 1000 + 500
                           : family == "creep"            ? seed * 1000 + 700
-                                                         : seed * 1000 + 900;
+                          : family == "cohesion"         ? seed * 1000 + 900
+                                                         : seed * 1000 + 300;  // rate_dependence
         const std::string tag = family == "contact_relaxation" ? "" : family + "_";
         auto add = [&](const std::string& kind, double snr, std::size_t si, int k) {
             Job j;
@@ -463,10 +487,13 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
        << "(kc/k 0.5-1) against none, no relaxation, baseline plasticity, loading_curve and the unload-reload loop (hysteresis), "
        << "each record beginning with 4 % of its samples at rest before the first loading and its protocol saying so "
        << "(device.zero_before_contact) (the effect: the tension; the tension found: the largest the model reaches in the record). "
+       << "rate_dependence: the same protocol shape, a contact viscosity on the lab clock (viscous time 0.05-0.5 lab s) against "
+       << "none, no relaxation, the baseline of contact_relaxation. "
        << "Each null case is its "
        << "positive twin's bed, protocol and noise without the mechanism (noise sd = the twin's peak effect / SNR).\n\n";
     for (const std::string& family : families) {
-        const bool wall = family == "wall_friction", creep = family == "creep", coh = family == "cohesion";
+        const bool wall = family == "wall_friction", creep = family == "creep", coh = family == "cohesion", visc = family == "rate_dependence";
+        const bool short7 = creep || coh || visc;  // seven columns: no macroscopic C, no bed's own C
         int nNull = 0, fa = 0, det = 0, correct = 0, iouOk = 0, parN = 0, parOk = 0, parIdentOk = 0;
         std::map<double, std::pair<int, int>> power, powerSensor;
         std::ostringstream rows;
@@ -479,13 +506,13 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             // cohesion: the tension found and the record's
             if (c.positive) rows << c.iou << " | " << pFound[i] << " | " << pTrue[i];
             else rows << "- | " << pFound[i] << " | -";
-            if (!creep && !coh) {
+            if (!short7) {
                 rows << " | ";
                 if (c.positive) rows << (wall ? pPiston[i] : pIdent[i]);
                 else rows << "-";
             }
             if (wall) rows << " | " << sensor[i] << " |\n";
-            else if (creep || coh) rows << " |\n";
+            else if (short7) rows << " |\n";
             else rows << " | " << cIntrinsic[i] << " |\n";
             if (!c.positive) {
                 ++nNull;
@@ -523,6 +550,12 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             md << "| tension within 25 % of the noise-free record's largest tension (detections, SNR >= 5) | >= 90 % | "
                << countShare(parOk, parN) << " |\n\n";
             md << "| case | rho | verdict | first mechanism | IoU | tension found (Pa) | largest tension (Pa) |\n";
+        } else if (visc) {
+            md << "| tau_v found (macroscopic) within 25 % of the contact tau_v (detections, SNR >= 5; not the same quantity: the "
+                  "bed's viscous stress acts with the contacts' unloading stiffness, so the macroscopic tau_v is several times "
+                  "the contact value) | - | "
+               << countShare(parOk, parN) << " |\n\n";
+            md << "| case | rho | verdict | first mechanism | IoU | tau_v found (s) | contact tau_v (s) |\n";
         } else {
             md << "| C within 25 % of the contact C (detections, SNR >= 5) | >= 90 % | " << countShare(parOk, parN) << " |\n";
             if (family == "creep") md << "\n";  // no position holds: no macroscopic C
@@ -532,7 +565,7 @@ std::string demCaseBenchmark(int perSnr, const std::vector<double>& snrs, int sa
             md << (creep ? "| case | rho | verdict | first mechanism | IoU | C found | contact C |\n"
                          : "| case | rho | verdict | first mechanism | IoU | C found | contact C | macroscopic C | bed's own C (without contact relaxation) |\n");
         }
-        md << (creep || coh ? "|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|---|\n") << rows.str() << "\n";
+        md << (short7 ? "|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|---|\n") << rows.str() << "\n";
     }
     return md.str();
 }

@@ -43,6 +43,15 @@
 // without it). The truth's primary value is the largest tension of the noise-free "with" record (the
 // surrogate's `tension`). MODEL.json as for contact_relaxation.
 //
+// Rate dependence (family rate_dependence, since 2026-12-06): its own protocol shape (a slow ramp that
+// speeds up five-fold half way without stopping, a hold, a slow ramp, a fast unload, a fast reload and
+// a last hold; holds a quarter of the relaxation family's), its own seeds, no relaxation; "with" has a contact viscosity on the lab clock, viscous time tau_v in
+// [0.05, 0.5] lab s (--contact_viscous_time, a Maxwell branch: Contacts/ViscousLaws.h), "without" none.
+// The viscous stress rides on every ramp, vanishes in the holds and reverses in the unload. The truth's
+// primary value is the contact tau_v (the surrogate's tau_v is macroscopic: the viscous stress over
+// its loading modulus and strain rate, several times the contact value, since the branch acts with the
+// unloading stiffness k and the bed loads with about k1 = k/5). MODEL.json as for contact_relaxation.
+//
 // Positive: contact C in [0.02, 0.08], t0 in [0.1, 2] s. The truth's primary value is the contact C;
 // `primary_value_identifiable` is the macroscopic C of the noise-free "with" record (the mean Eq. 4.3
 // fit of its holds, which the bed's rearrangements make smaller than the contact C). Windows: the
@@ -57,7 +66,7 @@
 namespace pdpm::explain {
 
 struct DemCaseSpec {
-    std::string kind = "null";  ///< null | contact_relaxation | wall_friction | creep | cohesion
+    std::string kind = "null";  ///< null | contact_relaxation | wall_friction | creep | cohesion | rate_dependence
     double snr = 3, rho = 0.5;
     unsigned long seed = 1;
     int samples = 2000;
@@ -74,11 +83,13 @@ struct DemCaseSpec {
 GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDir, Json& model);
 
 /// The families of DEM-made cases.
-inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction", "creep", "cohesion"};
+inline const std::vector<std::string> kDemCaseFamilies = {"contact_relaxation", "wall_friction", "creep", "cohesion", "rate_dependence"};
 /// The mechanism a positive case of family `f` carries (creep: contact_relaxation; else f itself).
 inline std::string demFamilyMechanism(const std::string& f) { return f == "creep" ? "contact_relaxation" : f; }
 /// The report parameter a positive case of family `f` is scored on (wall_friction: muK; cohesion: tension; else C).
-inline std::string demFamilyPrimary(const std::string& f) { return f == "wall_friction" ? "muK" : f == "cohesion" ? "tension" : "C"; }
+inline std::string demFamilyPrimary(const std::string& f) {
+    return f == "wall_friction" ? "muK" : f == "cohesion" ? "tension" : f == "rate_dependence" ? "tau_v" : "C";
+}
 /// InputError "WHAT: unknown family 'F' (contact_relaxation, wall_friction, creep, cohesion)" unless `f` is a family.
 void checkDemCaseFamily(const std::string& f, const std::string& what);
 

@@ -1343,8 +1343,9 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
             }
             // wall friction fitted at the upper bound of muK (1.5, already beyond mu_w K of about 1 at
             // most for a powder on a wall): the term is not estimating a wall friction but lending its
-            // shape to something else (the thesis limestone reconstruction, which has none: muK 1.5 at
-            // an orthogonal fraction of 0.0015 in round 3)
+            // shape to something else (the rule for a candidate; dropWallFrictionAtBound is the one for
+            // the final model, where the thesis limestone reconstruction, which has no wall friction,
+            // ended at 1.5 after its round-3 candidate at 0.29)
             if (cd.comp == kWallFriction && !opt.forceBest && !wallSeen) {
                 const ParDef& d = M.defs()[pMuK];
                 if (atUpperBound(d, cd.p[pMuK])) {

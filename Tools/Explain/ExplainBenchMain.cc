@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
                 "contact_relaxation,plasticity,cohesion,wall_friction,rate_dependence,stiffness_nonlinearity",
                 "mechanisms of the positive cases");
         cli.add("dem_cases", &demCases, 0, "DEM-made cases: positive cases per family of --dem_families and SNR of --dem_snr, each with its null twin (0: skip; each runs the OedometerRelaxation driver, about a minute per run)", 0, 100000);
-        cli.add("dem_families", &demFamiliesText, "contact_relaxation", "families of the DEM-made cases: contact_relaxation, wall_friction, creep (contact relaxation in creep steps), cohesion (lift-off test) (comma separated)");
+        cli.add("dem_families", &demFamiliesText, "contact_relaxation", "families of the DEM-made cases: contact_relaxation, wall_friction, creep (contact relaxation in creep steps), cohesion (lift-off test), rate_dependence (contact viscosity) (comma separated)");
         cli.add("dem_snr", &demSnrText, "3,5", "peak SNR values of the DEM-made positive cases");
         cli.add("dem_driver_args", &demDriverArgs, "", "extra OedometerRelaxation arguments of the DEM-made cases (e.g. '--width 4 --fill_height 5')");
         cli.add("calibrated_compliance", &calibrated, false,

@@ -1,6 +1,6 @@
 // pdpm-explain-data: inputs for pdpm-explain in the recording format.
 //   generate     --kind K --snr S --rho R --seed N --samples M [--material_seed K] --output CASE_DIR --truth TRUTH.json
-//   dem-case     --kind null|contact_relaxation|wall_friction|creep|cohesion [--family F] [--bottom_sensor 1] --snr S --rho R
+//   dem-case     --kind null|contact_relaxation|wall_friction|creep|cohesion|rate_dependence [--family F] [--bottom_sensor 1] --snr S --rho R
 //                --seed N --output CASE_DIR --truth TRUTH.json
 //                a case made by the OedometerRelaxation DEM (Tools/Explain/DemCases.h); CASE_DIR/model.json
 //                holds the baseline the explainer must be given
@@ -275,8 +275,8 @@ int main(int argc, char** argv) {
                     "material seed are recordings of one material (device, protocol and noise from --seed)",
                     0, 2147483647);
         } else if (cmd == "dem-case") {
-            cli.add("kind", &kind, "null", "null | contact_relaxation | wall_friction | creep | cohesion", {"null", "contact_relaxation", "wall_friction", "creep", "cohesion"});
-            cli.add("family", &family, "", "the pair's family (a null case is its twin without the mechanism): contact_relaxation | wall_friction | creep (contact relaxation seen in creep steps) | cohesion (lift-off test) (default: the kind; contact_relaxation for null)");
+            cli.add("kind", &kind, "null", "null | contact_relaxation | wall_friction | creep | cohesion | rate_dependence", {"null", "contact_relaxation", "wall_friction", "creep", "cohesion", "rate_dependence"});
+            cli.add("family", &family, "", "the pair's family (a null case is its twin without the mechanism): contact_relaxation | wall_friction | creep (contact relaxation seen in creep steps) | cohesion (lift-off test) | rate_dependence (contact viscosity) (default: the kind; contact_relaxation for null)");
             cli.add("bottom_sensor", &bottomSensor, false, "wall_friction family: the record also carries a noisy bottom_stress_Pa");
             cli.add("snr", &snr, 3, "-", "peak effect (DEM with minus DEM without the mechanism) / noise sd", 0, 1e6, true, false);
             cli.add("rho", &rho, 0.5, "-", "AR(1) coefficient of the noise", 0, 0.99);
