@@ -957,6 +957,20 @@ double sensorPart(const ExplainResult& R, int c) {
     return part;
 }
 
+/// Drops the accepted mechanism s.accepted[a]: its candidate row is no longer accepted and says why,
+/// and the selection takes the model without it (`w`, from withoutMechanism).
+void dropAccepted(Selection& s, ExplainResult& R, std::size_t a, Without&& w, const std::string& note) {
+    for (auto& cd : R.candidates)
+        if (cd.comp == s.accepted[a] && cd.accepted) {
+            cd.accepted = false;
+            cd.note = note;
+        }
+    s.on = w.on;
+    syncNuisances(s.nuis, s.on, R);
+    s.cur = std::move(w.f);
+    s.accepted.erase(s.accepted.begin() + long(a));
+}
+
 /// Backward check: drops an accepted mechanism that the later ones made redundant (the final model
 /// without it loses less than the acceptance threshold of BIC), one at a time until none is.
 void dropRedundantMechanisms(Selection& s, ExplainResult& R) {
@@ -967,15 +981,7 @@ void dropRedundantMechanisms(Selection& s, ExplainResult& R) {
         for (std::size_t a = 0; a < s.accepted.size(); ++a) {
             Without w = withoutMechanism(s, R, s.accepted[a]);
             if (w.bic - bicFull + sensorPart(R, s.accepted[a]) < s.opt.bicThreshold) {
-                for (auto& cd : R.candidates)
-                    if (cd.comp == s.accepted[a] && cd.accepted) {
-                        cd.accepted = false;
-                        cd.note = "accepted, then dropped: redundant once the later mechanisms were added";
-                    }
-                s.on = w.on;
-                syncNuisances(s.nuis, s.on, R);
-                s.cur = std::move(w.f);
-                s.accepted.erase(s.accepted.begin() + long(a));
+                dropAccepted(s, R, a, std::move(w), "accepted, then dropped: redundant once the later mechanisms were added");
                 dropped = true;
                 break;
             }
@@ -999,17 +1005,10 @@ bool dropWallFrictionAtBound(Selection& s, ExplainResult& R) {
     if (!atUpperBound(d, s.cur.p[pMuK])) return false;
     const auto it = std::find(s.accepted.begin(), s.accepted.end(), int(kWallFriction));
     if (it == s.accepted.end()) return false;  // in the baseline (MODEL.json): the user's choice
-    Without w = withoutMechanism(s, R, kWallFriction);
-    for (auto& cd : R.candidates)
-        if (cd.comp == kWallFriction && cd.accepted) {
-            cd.accepted = false;
-            cd.note = "accepted, then dropped: muK ended at its bound " + num(d.hi, 3) +
-                      " on the final model (beyond a wall friction: mu_w K is below about 1), so it stood in for another shape";
-        }
-    s.on = w.on;
-    syncNuisances(s.nuis, s.on, R);
-    s.cur = std::move(w.f);
-    s.accepted.erase(it);
+    // (no backward check afterwards: with one mechanism fewer the others have more to explain)
+    dropAccepted(s, R, std::size_t(it - s.accepted.begin()), withoutMechanism(s, R, kWallFriction),
+                 "accepted, then dropped: muK ended at its bound " + num(d.hi, 3) +
+                     " on the final model (beyond a wall friction: mu_w K is below about 1), so it stood in for another shape");
     return true;
 }
 
