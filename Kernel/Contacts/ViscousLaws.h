@@ -4,7 +4,7 @@
 // Why not a dashpot. A DEM of an oedometer test runs its ramps hundreds of times faster than the lab
 // (the driver keeps the lab clock: viscTimeScale = lab seconds per DEM second). A contact viscosity
 // with viscous time tau_v (lab seconds), f_v = k tau_v d(delta)/dt_lab, is then a dashpot
-// gamma = k tau_v / viscTimeScale of 10-1000 kg/s, far beyond the explicit integrator's stability
+// gamma = k tau_v / viscTimeScale of 10-2000 kg/s, far beyond the explicit integrator's stability
 // limit (about 2 m*/dt). So the viscous force is carried by a Maxwell branch (a spring k_m in series
 // with the dashpot eta = k tau_v) in parallel with the base law, integrated exactly over each step:
 //

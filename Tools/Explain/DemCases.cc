@@ -120,10 +120,12 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
         steps << "ramp:" << fmt(vs) << ':' << fmt(s1) << ",ramp:" << fmt(vf) << ':' << fmt(2 * s1) << ",hold:" << fmt(h) << ",ramp:"
               << fmt(vs) << ':' << fmt(3 * s1) << ",unload:" << fmt(vf) << ':' << fmt(su) << ",ramp:" << fmt(vf) << ':' << fmt(3 * s1)
               << ",hold:" << fmt(0.5 * h);
-    } else
-    steps << "ramp:" << fmt(v) << ':' << fmt(s1) << H << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(2 * s1) << H
-          << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(hold) << ",unload:" << fmt(v) << ':' << fmt(coh ? pull : su)
-          << (coh ? H + fmt(0.5 * hold) : std::string()) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(0.5 * hold);
+    } else {
+        steps << "ramp:" << fmt(v) << ':' << fmt(s1) << H << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(2 * s1) << H
+              << fmt(hold) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H << fmt(hold) << ",unload:" << fmt(v) << ':'
+              << fmt(coh ? pull : su) << (coh ? H + fmt(0.5 * hold) : std::string()) << ",ramp:" << fmt(v) << ':' << fmt(3 * s1) << H
+              << fmt(0.5 * hold);
+    }
     const double C = uni(0.02, 0.08), t0 = std::pow(10.0, uni(-1, std::log10(2.0)));
     const double muW = wall ? uni(0.15, 0.45) : 0.0;  // only in the wall family: the relaxation family's draws stay as they were
     const double kc = coh ? uni(0.5, 1.0) : 0.0;       // cohesion: kc/k of the particle pairs and of the walls
