@@ -1,11 +1,16 @@
 // The OedometerRelaxation driver's contact viscosity on the lab clock (--contact_viscous_time), the DEM
 // ingredient of pdpm-explain's rate_dependence, on the default laterally periodic bed (about 180
 // cocoa particles, relaxation off): a ramp that speeds up ten-fold without stopping, then a hold.
+//  0. the two runs (with and without the viscosity) compress the same poured bed;
 //  1. the protocol file names the law luding-relax-viscous and the viscous time;
 //  2. the viscous stress (stress with the viscosity minus without, at the same strain) is there on
-//     the slow part and about ten times larger after the speed-up: a stress proportional to the lab
-//     strain rate, E_v = stress / (tau rate) the same within 35 % on both parts (measured 2026-12-06
-//     on the full-length version of this protocol: 1.7e6 and 1.5e6 Pa);
+//     the slow part and over five times larger after the ten-fold speed-up. Whether it is
+//     proportional to the rate this small bed cannot tell: its collapses move the difference by up to
+//     300 Pa (measured 2026-12-07 on one bed: E_v = stress / (tau rate) 1.30e6 Pa slow and 0.81e6 Pa
+//     fast at the points below, ratio 0.62; 0.93 averaged over the middle half of each part; 1.02 on
+//     the full-length protocol of driver-oedometer-relaxation.md). A check that E_v agreed within 35 %
+//     passed until 2026-12-06 only because the two runs compressed different beds (the viscous run
+//     poured with the viscous law, whose last bits differ) and was dropped when that was fixed;
 //  3. in the hold the viscous bed loses most of its excess over the bed without viscosity (the
 //     Maxwell branch fades within tau/4 lab seconds), the bed without viscosity almost nothing;
 //  4. --contact_viscous_time with Hertz contacts or with another contact law is refused (exit 2).
@@ -24,6 +29,7 @@ struct Run {
     int rc = -1;
     std::vector<oedometer_selftest::Sample> s;
     double height = 0;  ///< bed height at the start (m), for the lab strain rates
+    std::size_t particles = 0;
 };
 
 constexpr double kSlow = 5e-6, kFast = 5e-5;  // lab piston speeds (m/s)
@@ -35,6 +41,7 @@ Run run(const std::string& tau) {
                                              tau, "--name", "tau" + tau, "--quiet", "--threads", "1"});
     if (r.rc != 0) return r;
     r.s = oedometer_selftest::samples(d);
+    r.particles = d.particles().size();
     r.height = readJsonFile("tau" + tau + ".protocol.json").at("device").at("height_m").asNumber();
     return r;
 }
@@ -75,6 +82,9 @@ int main() {
     const Run plain = run("0"), visc = run("0.5");
     ok &= check(plain.rc == 0 && visc.rc == 0, "the two runs (no viscosity, contact viscous time 0.5 lab s)");
     if (!ok) return 1;
+    // the viscous law (and its shorter time step) starts after the pour: both runs compress the same bed
+    std::printf("     beds: %zu and %zu particles, %.10g and %.10g m high\n", plain.particles, visc.particles, plain.height, visc.height);
+    ok &= check(plain.particles == visc.particles && plain.height == visc.height, "both runs compress the same poured bed");
     const Json proto = readJsonFile("tau0.5.protocol.json");
     ok &= check(proto.at("material").at("contact_law").asString() == "luding-relax-viscous", "the protocol file names luding-relax-viscous");
     ok &= check(proto.at("material").at("contact_viscous_time_s").asNumber() == tau, "the protocol file has the viscous time");
@@ -86,10 +96,9 @@ int main() {
     const double dSlow = stressAt(visc, eSlow) - stressAt(plain, eSlow), dFast = stressAt(visc, eFast) - stressAt(plain, eFast);
     const double rSlow = kSlow / visc.height, rFast = kFast / visc.height;  // lab strain rates (1/s)
     const double evSlow = dSlow / (tau * rSlow), evFast = dFast / (tau * rFast);
-    std::printf("     viscous stress: %.4g Pa at strain %.4g (rate %.3g /s), %.4g Pa at %.4g (rate %.3g /s): E_v %.3g and %.3g Pa\n", dSlow,
-                eSlow, rSlow, dFast, eFast, rFast, evSlow, evFast);
+    std::printf("     viscous stress: %.4g Pa at strain %.4g (rate %.3g /s), %.4g Pa at %.4g (rate %.3g /s): E_v %.3g and %.3g Pa (ratio %.3g)\n",
+                dSlow, eSlow, rSlow, dFast, eFast, rFast, evSlow, evFast, evFast / evSlow);
     ok &= check(dSlow > 0 && dFast > 5 * dSlow, "the viscous stress grows with the rate (over five times after the ten-fold speed-up)");
-    ok &= check(evSlow > 0 && std::abs(evFast / evSlow - 1) < 0.35, "the viscous stress is proportional to the lab strain rate (E_v within 35 %)");
 
     // the hold: the viscous excess fades, the plain bed keeps its stress
     const auto [v0, v1] = stepEnds(visc, 2);

@@ -1114,10 +1114,10 @@ TEST(ExplainCommand, DemConfirmationStatusWithoutRuns) {
     Recording rec;
     DemOptions opt;
     EXPECT_EQ(confirmWithDem(none, rec, "p.json", opt, "unused").status, "not_needed");
-    ExplainResult rate;
-    rate.mechanisms.push_back(MechanismResult{});
-    rate.mechanisms.back().comp = kRate;
-    EXPECT_EQ(confirmWithDem(rate, rec, "p.json", opt, "unused").status, "not_supported");
+    ExplainResult rolling;
+    rolling.mechanisms.push_back(MechanismResult{});
+    rolling.mechanisms.back().comp = kRolling;
+    EXPECT_EQ(confirmWithDem(rolling, rec, "p.json", opt, "unused").status, "not_supported");
     ExplainResult plast;
     plast.mechanisms.push_back(MechanismResult{});
     plast.mechanisms.back().comp = kPlasticity;
@@ -1226,6 +1226,38 @@ DemResult confirmWithStandIn(const std::string& dir, const std::string& name, co
     return confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/" + name);
 }
 
+/// The awk lines that end cycle k of a hold stand-in driver (awk variables: k, ls the lab time where
+/// hold k's clock starts, s0 its stress there, fit the hold's "fit_C", "fit_t0_s" JSON pair, hj and st
+/// the holds and steps so far, pj the protocol file) and, after the loop, write the protocol file with
+/// its holds, as the driver writes them.
+const char* const kHoldCycleEndAwk = R"(    hj = hj (k ? ", " : "") sprintf("{\"step\": %d, \"type\": \"hold_position\", \"lab_start_s\": %.17g, \"stress_start_Pa\": %.17g, %s}", 2 * k + 1, ls, s0, fit)
+    st = st (k ? ", " : "") sprintf("{\"type\": \"ramp\", \"velocity_m_s\": 1e-5, \"target_stress_Pa\": %d}, {\"type\": \"hold_position\", \"duration_s\": 100}", s0)
+  }
+  printf "{\"format\": \"pdpm-oedometer-protocol\", \"version\": 1, \"source\": \"simulation\", \"device\": {\"name\": \"periodic\", \"diameter_m\": 0.01, \"height_m\": 0.01, \"wall_friction\": 0}, \"material\": {\"name\": \"stand-in\"}, \"steps\": [%s], \"extra\": {\"holds\": [%s]}}\n", st, hj > pj
+}'
+)";
+
+/// confirmWithDem (fast mode) with the stand-in driver DIR/driver.sh and the protocol DIR/p.json, its
+/// runs in DIR/dem.
+DemResult confirmWithDriverScript(const std::string& dir, const ExplainResult& r, const Recording& rec) {
+    DemOptions opt;
+    opt.driver = dir + "/driver.sh";
+    std::filesystem::create_directories(dir + "/dem");
+    return confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+}
+
+/// The lab protocol of the hold stand-in tests: four ramps to stress, 2 stress, 3 stress, 4 stress
+/// (Pa), each followed by a 100 s position hold.
+void writeFourHoldProtocol(const std::string& path, double stress) {
+    std::string steps;
+    for (int k = 1; k <= 4; ++k)
+        steps += std::string(k > 1 ? ", " : "") + R"({"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": )" + fmt(stress * k) +
+                 R"(}, {"type": "hold_position", "duration_s": 100})";
+    writeWholeFile(path, R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
+ "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "powder"},
+ "steps": [)" + steps + "]}");
+}
+
 // The contact_relaxation DEM confirmation against a stand-in driver whose "DEM" holds follow Eq. 4.3
 // with the bed's C = 0.75 x the contact C and, when the contacts also relax in the ramps (the
 // default), a t0 `age` times the contact t0 (contacts aged by the ramp), else the contact t0; each
@@ -1246,19 +1278,8 @@ awk -v C="$v_relax_C" -v t0="$v_relax_t0" -v r="$v_relax_in_ramps" -v out="$v_ou
     for (t = 1e-6; t < 100; t *= 1.05) printf "%.17g,%d,%.17g,%.17g\n", ls + t, 2 * k + 1, e, s0 * (1 + t / te) ^ (-Cm) > rec
     T = ls + 100
     fit = Cm > 0 ? sprintf("\"fit_C\": %.17g, \"fit_t0_s\": %.17g", Cm, te) : "\"fit_C\": null, \"fit_t0_s\": null"
-    hj = hj (k ? ", " : "") sprintf("{\"step\": %d, \"type\": \"hold_position\", \"lab_start_s\": %.17g, \"stress_start_Pa\": %.17g, %s}", 2 * k + 1, ls, s0, fit)
-    st = st (k ? ", " : "") sprintf("{\"type\": \"ramp\", \"velocity_m_s\": 1e-5, \"target_stress_Pa\": %d}, {\"type\": \"hold_position\", \"duration_s\": 100}", s0)
-  }
-  printf "{\"format\": \"pdpm-oedometer-protocol\", \"version\": 1, \"source\": \"simulation\", \"device\": {\"name\": \"periodic\", \"diameter_m\": 0.01, \"height_m\": 0.01, \"wall_friction\": 0}, \"material\": {\"name\": \"stand-in\"}, \"steps\": [%s], \"extra\": {\"holds\": [%s]}}\n", st, hj > pj
-}'
-)");
-    std::string steps;
-    for (int k = 1; k <= 4; ++k)
-        steps += std::string(k > 1 ? ", " : "") + R"({"type": "ramp", "velocity_m_s": 1e-5, "target_stress_Pa": )" + std::to_string(5000 * k) +
-                 R"(}, {"type": "hold_position", "duration_s": 100})";
-    writeWholeFile(dir + "/p.json", R"({"format": "pdpm-oedometer-protocol", "version": 1, "source": "experiment",
- "device": {"name": "oedometer", "diameter_m": 0.07, "height_m": 0.02, "wall_friction": 0}, "material": {"name": "powder"},
- "steps": [)" + steps + "]}");
+)" + std::string(kHoldCycleEndAwk));
+    writeFourHoldProtocol(dir + "/p.json", 5000);
     // the lab record: ramps of 10 samples, holds of 100 s sampled at 5 Hz from the stop (Eq. 4.3, C 0.03, t0 1 ms)
     Recording rec;
     double T = 0;
@@ -1280,10 +1301,7 @@ awk -v C="$v_relax_C" -v t0="$v_relax_t0" -v r="$v_relax_in_ramps" -v out="$v_ou
     m.params = {pRelaxC, pRelaxT0};
     m.value = {0.03, 1e-3};
     r.mechanisms.push_back(m);
-    DemOptions opt;
-    opt.driver = dir + "/driver.sh";
-    std::filesystem::create_directories(dir + "/dem");
-    return confirmWithDem(r, rec, dir + "/p.json", opt, dir + "/dem");
+    return confirmWithDriverScript(dir, r, rec);
 }
 
 TEST(ExplainCommand, DemConfirmationRelaxationLetsRampAgedContactsRelaxInHoldsOnly) {
@@ -1324,6 +1342,123 @@ TEST(ExplainCommand, DemConfirmationRelaxationKeepsRampRelaxationWhenHoldsKeepTh
     EXPECT_EQ(d.chosen, 2);
     EXPECT_LT(d.heldoutAugmented, 0.01 * d.heldoutBaseline);
     EXPECT_NE(demMarkdown(d).find("in the ramps as well as in the holds"), std::string::npos);
+}
+
+// speedChanges finds where a loading changes its speed without a stop and measures the stress a
+// viscosity adds there. Record: strain rate r for 40 s, 5r for 20 s, a 40 s hold, then 5r for 20 s and
+// r for 40 s; stress E e + eta * (current rate) while moving (the viscous part gone in the hold). The
+// speed-up's step is 4 eta r / (E e_c + eta r), the slow-down's (signed positive for a stress that
+// grows with the rate) 4 eta r / (E e_c + 5 eta r), both exact for straight pieces; a change by 1.5
+// and a constant speed are not changes.
+TEST(ExplainDem, SpeedChangesMeasureTheStressStepWhereTheLoadingSpeedChanges) {
+    const double r = 1e-4, E = 1e6, eta = 2e6;
+    const auto record = [&](const std::vector<std::pair<double, double>>& pieces) {  // (duration, rate factor; 0: hold)
+        Recording rec;
+        double t = 0, e = 0;
+        rec.t.push_back(0), rec.strain.push_back(0), rec.stress.push_back(eta * r * pieces.front().second);
+        for (const auto& [duration, f] : pieces)
+            for (int i = 1; i <= static_cast<int>(duration / 0.25); ++i) {
+                t += 0.25, e += 0.25 * f * r;
+                rec.t.push_back(t), rec.strain.push_back(e), rec.stress.push_back(E * e + eta * f * r);
+            }
+        return rec;
+    };
+    const Recording rec = record({{40, 1}, {20, 5}, {40, 0}, {20, 5}, {40, 1}});
+    const std::vector<RateChange> c = speedChanges(rec.t, rec.strain, rec.stress);
+    ASSERT_EQ(c.size(), 2u);
+    EXPECT_NEAR(c[0].time, 40, 1e-9);
+    EXPECT_NEAR(c[0].rateRatio, 5, 1e-6);
+    const double e1 = 40 * r, e2 = 40 * r + 20 * 5 * r + 20 * 5 * r;
+    EXPECT_NEAR(c[0].step, 4 * eta * r / (E * e1 + eta * r), 1e-9);
+    EXPECT_NEAR(c[1].time, 120, 1e-9);
+    EXPECT_NEAR(c[1].rateRatio, 0.2, 1e-6);
+    EXPECT_NEAR(c[1].step, 4 * eta * r / (E * e2 + 5 * eta * r), 1e-9);
+    EXPECT_NEAR(meanRateStep(c), 0.5 * (c[0].step + c[1].step), 1e-15);
+    const Recording mild = record({{40, 1}, {20, 1.5}, {40, 0}});
+    EXPECT_TRUE(speedChanges(mild.t, mild.strain, mild.stress).empty()) << "a change by 1.5 is not a change of speed";
+    const Recording steady = record({{60, 1}, {40, 0}});
+    EXPECT_TRUE(speedChanges(steady.t, steady.strain, steady.stress).empty());
+    EXPECT_TRUE(std::isnan(meanRateStep({})));
+}
+
+// The rate_dependence DEM confirmation against a stand-in driver: four cycles of a ramp that speeds up
+// five-fold (strain rate 1e-4 to 5e-4 /s, 10 s each) and a 100 s hold at 10, 20, 30, 40 kPa. While
+// moving, the stress carries a viscous part Ev tau (rate); in a hold it fades within 0.05 s (the
+// stand-in's Ev = 3e6 Pa against the lab's 5e6 Pa at tau = 0.12 s: the DEM needs tau = 0.2 s). The lab
+// samples its ramps up to 0.25 s before the stop and its holds from 0.5 s after it, when the viscous
+// drop has gone, so the stop's time and stress come from the ramp. Run a (tau_v 0.8 s / 8 = 0.1 s) loses half the lab's drop; the secant
+// gives run b at 0.2 s, which matches the held-out holds and the speed-up's step.
+TEST(ExplainCommand, DemConfirmationRateCalibratesTheViscousTimeOnTheHolds) {
+    const pdpm::testing::TempDir tmp;
+    const std::string dir = tmp.str();
+    writeStandInScript(dir + "/driver.sh", "", R"(echo "$v_contact_viscous_time $v_relax_C" >> "$v_output/calls.txt"
+awk -v tau="$v_contact_viscous_time" -v out="$v_output/$v_name" 'BEGIN {
+  rec = out ".recording.csv"; pj = out ".protocol.json"; V = 3e6 * tau * 5e-4; E = 5e5
+  print "time_s,step,axial_strain,axial_stress_Pa" > rec
+  T = 0; e = 0; hj = ""; st = ""
+  for (k = 0; k < 4; k++) {
+    S = 10000 * (k + 1)
+    for (i = 1; i <= 40; i++) { T += 0.25; e += 0.25e-4; printf "%.17g,%d,%.17g,%.17g\n", T, 2 * k, e, S - 2500 - 0.8 * V - E * 1e-4 * (10 - 0.25 * i) > rec }
+    for (i = 1; i <= 40; i++) { T += 0.25; e += 1.25e-4; printf "%.17g,%d,%.17g,%.17g\n", T, 2 * k, e, S - E * 5e-4 * (10 - 0.25 * i) > rec }
+    ls = T
+    for (t = 1e-4; t < 100; t *= 1.05) printf "%.17g,%d,%.17g,%.17g\n", ls + t, 2 * k + 1, e, S - V * (1 - exp(-t / 0.05)) > rec
+    T = ls + 100
+    s0 = S; fit = "\"fit_C\": null, \"fit_t0_s\": null"
+)" + std::string(kHoldCycleEndAwk));
+    writeFourHoldProtocol(dir + "/p.json", 10000);
+    Recording rec;
+    const double V = 5e6 * 0.12 * 5e-4, E = 5e5;  // the lab's viscous stress at the fast rate: 300 Pa
+    double T = 0, e = 0;
+    for (int k = 0; k < 4; ++k) {
+        const double S = 10000.0 * (k + 1);
+        for (int i = 1; i <= 40; ++i)
+            T += 0.25, e += 0.25e-4, rec.t.push_back(T), rec.strain.push_back(e), rec.stress.push_back(S - 2500 - 0.8 * V - E * 1e-4 * (10 - 0.25 * i));
+        for (int i = 1; i < 40; ++i)  // the last ramp sample 0.25 s before the stop
+            T += 0.25, e += 1.25e-4, rec.t.push_back(T), rec.strain.push_back(e), rec.stress.push_back(S - E * 5e-4 * (10 - 0.25 * i));
+        T += 0.25, e += 1.25e-4;  // the stop
+        for (int i = 1; i <= 200; ++i) rec.t.push_back(T + 0.5 * i), rec.strain.push_back(e), rec.stress.push_back(S - V * (1 - std::exp(-0.5 * i / 0.05)));
+        T += 100;
+    }
+    const DemResult d = confirmWithDriverScript(dir, accepted(kRate, pTauV, 0.8), rec);
+    ASSERT_EQ(d.status, "done") << d.reason;
+    EXPECT_EQ(d.mechanism, "rate_dependence");
+    EXPECT_EQ(d.calibrationHolds, 2);
+    EXPECT_EQ(d.heldoutHolds, 2);
+    ASSERT_EQ(d.runs.size(), 3u);
+    EXPECT_EQ(d.runs[0].viscTime, 0.0);
+    EXPECT_NEAR(d.runs[1].viscTime, 0.8 / kRateMacroOverContact, 1e-12);
+    const double labDrop = 0.5 * (V / 10000 + V / 30000);  // the calibration holds 1 and 3
+    EXPECT_NEAR(d.labMacro, labDrop, 1e-6) << "the stress at the stop from the ramp";
+    EXPECT_NEAR(d.runs[1].macro, labDrop * 0.6 * 0.1 / 0.12, 1e-6);
+    EXPECT_NEAR(d.runs[2].viscTime, 0.2, 1e-6) << "the secant through the baseline and run a";
+    EXPECT_EQ(d.chosen, 2);
+    EXPECT_LT(d.heldoutAugmented, 0.01 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
+    EXPECT_EQ(d.rateChanges, 4);
+    // the speed-up's step 0.8 V over the stress there, S - 2500 - 0.8 V, averaged over the cycles (the
+    // stress there is taken at the change's strain from the fit of strain against time, which a hold
+    // sample at the loading's end bends slightly: 1e-3)
+    double step = 0;
+    for (int k = 1; k <= 4; ++k) step += 0.25 * 0.8 * V / (10000.0 * k - 2500 - 0.8 * V);
+    EXPECT_NEAR(d.labRateStep, step, 1e-3 * step);
+    EXPECT_NEAR(d.runs[2].rateStep, step, 1e-3 * step) << "the chosen run steps as the recording does";
+    EXPECT_NEAR(d.runs[0].rateStep, 0, 1e-9);
+    {  // relaxation off in every run: each line "tau relax_C"
+        std::istringstream calls(readWholeFile(dir + "/dem/calls.txt"));
+        std::string line;
+        int n = 0;
+        while (std::getline(calls, line)) {
+            EXPECT_EQ(line.substr(line.find(' ')), " 0") << line;
+            ++n;
+        }
+        EXPECT_EQ(n, 3);
+    }
+    const Json j = demJson(d);
+    EXPECT_EQ(j.at("chosen_run").asString(), "dem_viscous_b");
+    EXPECT_NEAR(j.at("runs").asArray("runs")[2].at("contact_viscous_time_s").asNumber(), 0.2, 1e-6);
+    EXPECT_EQ(j.at("recording_speed_changes").asNumber(), 4);
+    const std::string md = demMarkdown(d);
+    EXPECT_NE(md.find("contact viscosity on the lab clock"), std::string::npos);
+    EXPECT_NE(md.find("the DEM hold curves miss"), std::string::npos);
 }
 
 // The plasticity DEM confirmation against a stand-in driver (a shell script) whose "DEM" record is
@@ -1849,13 +1984,15 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     const DemResult notAccepted = confirmWithDem(both, rec, dir + "/p.json", opt, dir + "/dem3");
     EXPECT_EQ(notAccepted.status, "not_run");
     EXPECT_NE(notAccepted.reason.find("was not accepted"), std::string::npos);
-    // a rate_dependence that was accepted but has no DEM counterpart: not_supported, under its own name
-    ExplainResult rate = r;
-    rate.mechanisms.push_back(accepted(kRate, pTauV, 1.0).mechanisms.front());
-    opt.mechanism = "rate_dependence";
-    const DemResult rateOnly = confirmWithDem(rate, rec, dir + "/p.json", opt, dir + "/dem3");
-    EXPECT_EQ(rateOnly.status, "not_supported");
-    EXPECT_EQ(rateOnly.mechanism, "rate_dependence");
+    // a rolling_resistance that was accepted but has no DEM counterpart: not_supported, under its own name
+    ExplainResult rolling = r;
+    MechanismResult mr;
+    mr.comp = kRolling;
+    rolling.mechanisms.push_back(mr);
+    opt.mechanism = "rolling_resistance";
+    const DemResult rollingOnly = confirmWithDem(rolling, rec, dir + "/p.json", opt, dir + "/dem3");
+    EXPECT_EQ(rollingOnly.status, "not_supported");
+    EXPECT_EQ(rollingOnly.mechanism, "rolling_resistance");
     // the command refuses a name that is not a mechanism (a nuisance, an unknown word) and takes a mechanism
     std::ostringstream csv;
     csv << std::setprecision(17) << "time_s,axial_strain,axial_stress_Pa\n";

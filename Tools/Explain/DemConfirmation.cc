@@ -328,19 +328,59 @@ struct DemContext {
     }
 };
 
-DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const Recording& rec, const std::string& protocolPath) {
-    DemResult& d = ctx.d;
-    d.mechanism = "contact_relaxation";
-    double C = -1, t0 = -1;
-    for (std::size_t q = 0; q < relax.params.size(); ++q) {
-        if (relax.params[q] == pRelaxC) C = relax.value[q];
-        if (relax.params[q] == pRelaxT0) t0 = relax.value[q];
-    }
-    if (!(C > 0) || !(t0 > 0)) return ctx.fail("the accepted contact_relaxation term has no positive C and t0");
+/// dem/comparison.csv (and .png) of a hold confirmation: every lab hold sample, the odd holds held out.
+void writeHoldComparison(const DemContext& ctx, const std::vector<LabHold>& lab, const std::vector<const std::vector<DemHold>*>& all) {
+    std::vector<Compared> rows;
+    for (std::size_t k = 0; k < lab.size(); ++k)
+        for (std::size_t i = 0; i < lab[k].t.size(); ++i) {
+            Compared c{k, k % 2 == 1, lab[k].tStart + lab[k].t[i], lab[k].s[i], {}};
+            for (const auto* run : all) c.pred.push_back(holdPredict(lab, *run, k, i));
+            rows.push_back(std::move(c));
+        }
+    writeComparison(ctx.workDir, rows, ctx.d, "time_s", "time (s)", ctx.opt.figures);
+}
 
-    // lab holds, alternately calibration and held-out
+/// Where the piston stopped before the hold that begins at sample `stop` at strain eHold: straight lines
+/// of strain and stress against time over the second half of the ramp segment `ramp` before it, or,
+/// where the ramp changed its speed (speedChanges, `changes`), over the samples after the last change
+/// but its first eighth (at least 4 samples). The stop's time is where the strain line reaches eHold
+/// (kept between the ramp's last sample and the hold's first), its stress the stress line's there.
+/// False when there are fewer samples.
+bool rampStop(const Recording& rec, const PhaseSegment& ramp, std::size_t stop, double eHold, const std::vector<RateChange>& changes,
+              double& tStop, double& sStop) {
+    const std::size_t n = ramp.end - ramp.begin;
+    if (n < 8) return false;
+    std::size_t from = ramp.begin + n / 2;
+    for (const RateChange& c : changes)
+        if (c.index > ramp.begin && c.index < ramp.end) from = c.index + (ramp.end - c.index) / 8;
+    const std::size_t to = std::min(ramp.end, stop);
+    if (to < from + 4) return false;
+    double m = 0, sx = 0, se = 0, ss = 0, sxx = 0, sxe = 0, sxs = 0;
+    for (std::size_t i = from; i < to; ++i) {
+        const double x = rec.t[i] - rec.t[stop];
+        m += 1, sx += x, se += rec.strain[i], ss += rec.stress[i], sxx += x * x, sxe += x * rec.strain[i], sxs += x * rec.stress[i];
+    }
+    const double den = m * sxx - sx * sx;
+    if (!(den > 0)) return false;
+    const double re = (m * sxe - sx * se) / den, ie = (se - re * sx) / m;  // strain = ie + re x
+    const double rs = (m * sxs - sx * ss) / den, is = (ss - rs * sx) / m;  // stress = is + rs x
+    double x = re != 0 ? (eHold - ie) / re : 0.0;
+    x = std::clamp(x, rec.t[to - 1] - rec.t[stop], 0.0);
+    tStop = rec.t[stop] + x;
+    sStop = is + rs * x;
+    return std::isfinite(sStop) && sStop > 0;
+}
+
+/// The lab recording's position holds (from each hold's first sample), in order. With `stopFromRamp`
+/// the hold's clock starts where the piston stopped and its stress at the start is the ramp's there
+/// (rampStop; a stress lost within a sample or two of the stop, as a viscous one, has gone before the
+/// hold's first sample), else at its first sample, with the stress of its own first samples.
+std::vector<LabHold> labHolds(const Recording& rec, bool stopFromRamp = false) {
     std::vector<LabHold> lab;
-    for (const PhaseSegment& found : detectPhases(rec.t, rec.strain)) {
+    const std::vector<PhaseSegment> phases = detectPhases(rec.t, rec.strain);
+    const std::vector<RateChange> changes = stopFromRamp ? speedChanges(rec.t, rec.strain, rec.stress) : std::vector<RateChange>{};
+    for (std::size_t q = 0; q < phases.size(); ++q) {
+        const PhaseSegment& found = phases[q];
         if (found.phase != Phase::Hold || found.end - found.begin < 5) continue;
         // from the hold's first sample (holdExtent): the DEM hold curves start where the piston stops,
         // and a lab hold started a few samples late has already lost the fast part of its relaxation,
@@ -357,8 +397,29 @@ DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const
         const bool exact = atHoldStrain(rec.strain[seg.begin], eh);
         h.s0 = exact ? h.s[0] : (h.s[0] + h.s[1] + h.s[2]) / 3;
         h.tStart = rec.t[seg.begin];
+        double tStop, sStop;
+        if (stopFromRamp && q > 0 && phases[q - 1].phase != Phase::Hold && rampStop(rec, phases[q - 1], seg.begin, eh, changes, tStop, sStop)) {
+            for (double& t : h.t) t += rec.t[seg.begin] - tStop;
+            h.s0 = sStop;
+            h.tStart = tStop;
+        }
         lab.push_back(std::move(h));
     }
+    return lab;
+}
+
+DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const Recording& rec, const std::string& protocolPath) {
+    DemResult& d = ctx.d;
+    d.mechanism = "contact_relaxation";
+    double C = -1, t0 = -1;
+    for (std::size_t q = 0; q < relax.params.size(); ++q) {
+        if (relax.params[q] == pRelaxC) C = relax.value[q];
+        if (relax.params[q] == pRelaxT0) t0 = relax.value[q];
+    }
+    if (!(C > 0) || !(t0 > 0)) return ctx.fail("the accepted contact_relaxation term has no positive C and t0");
+
+    // lab holds, alternately calibration and held-out
+    const std::vector<LabHold> lab = labHolds(rec);
     std::vector<std::size_t> cal, held;
     for (std::size_t k = 0; k < lab.size(); ++k) (k % 2 == 0 ? cal : held).push_back(k);
     if (held.empty()) {
@@ -428,14 +489,108 @@ DemResult confirmRelaxation(DemContext& ctx, const MechanismResult& relax, const
     d.heldoutBaseline = d.runs[0].heldoutRmse;
     d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
     d.status = "done";
-    std::vector<Compared> rows;
-    for (std::size_t k = 0; k < lab.size(); ++k)
-        for (std::size_t i = 0; i < lab[k].t.size(); ++i) {
-            Compared c{k, k % 2 == 1, lab[k].tStart + lab[k].t[i], lab[k].s[i], {}};
-            for (const auto* run : all) c.pred.push_back(holdPredict(lab, *run, k, i));
-            rows.push_back(std::move(c));
+    writeHoldComparison(ctx, lab, all);
+    return ctx.finish();
+}
+
+/// Mean stress drop of the holds in `which` over the last third of each lab hold, a fraction of the
+/// stress at the stop: the lab's own (dem null) or the DEM's prediction of it.
+double holdDrop(const std::vector<LabHold>& lab, const std::vector<DemHold>* dem, const std::vector<std::size_t>& which) {
+    double sum = 0;
+    int n = 0;
+    for (std::size_t k : which) {
+        const LabHold& h = lab[k];
+        if (!(h.s0 > 0) || h.t.size() < 3) continue;
+        double m = 0;
+        std::size_t c = 0;
+        for (std::size_t i = 2 * h.t.size() / 3; i < h.t.size(); ++i, ++c) m += dem ? interpolate((*dem)[k], h.t[i]) : h.s[i] / h.s0;
+        sum += 1 - m / static_cast<double>(c);
+        ++n;
+    }
+    return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// Time, strain and stress columns of a DEM run's record.
+void readDemSeries(const std::string& base, std::vector<double>& t, std::vector<double>& e, std::vector<double>& s) {
+    const recording::Recording rec = recording::readRecording(base + ".recording.csv");
+    const int ct = rec.column("time_s"), cs = rec.column("axial_stress_Pa"), ce = rec.column("axial_strain");
+    if (ct < 0 || cs < 0 || ce < 0) inputError(base + ".recording.csv: missing time_s/axial_strain/axial_stress_Pa");
+    for (const auto& row : rec.rows) {
+        t.push_back(row[static_cast<std::size_t>(ct)]);
+        e.push_back(row[static_cast<std::size_t>(ce)]);
+        s.push_back(row[static_cast<std::size_t>(cs)]);
+    }
+}
+
+/// rate_dependence: the contact viscous time (--contact_viscous_time) calibrated on the lab holds
+/// (DemConfirmation.h).
+DemResult confirmRate(DemContext& ctx, const MechanismResult& rate, const Recording& rec, const std::string& protocolPath) {
+    DemResult& d = ctx.d;
+    d.mechanism = "rate_dependence";
+    double tauMacro = -1;
+    for (std::size_t q = 0; q < rate.params.size(); ++q)
+        if (rate.params[q] == pTauV) tauMacro = rate.value[q];
+    if (!(tauMacro > 0)) return ctx.fail("the accepted rate_dependence term has no positive tau_v");
+    const std::vector<LabHold> lab = labHolds(rec, true);
+    std::vector<std::size_t> cal, held;
+    for (std::size_t k = 0; k < lab.size(); ++k) (k % 2 == 0 ? cal : held).push_back(k);
+    if (held.empty()) {
+        d.status = "not_run";
+        d.reason = "the recording has fewer than two holds: the viscous stress shows where a hold stops the piston, and there is "
+                   "no held-out hold to score the DEM re-run on";
+        return ctx.finish();
+    }
+    d.calibrationHolds = static_cast<int>(cal.size());
+    d.heldoutHolds = static_cast<int>(held.size());
+    const std::vector<RateChange> labChanges = speedChanges(rec.t, rec.strain, rec.stress);
+    d.rateChanges = static_cast<int>(labChanges.size());
+    d.labRateStep = meanRateStep(labChanges);
+    d.labMacro = holdDrop(lab, nullptr, cal);
+
+    const auto clampTau = [](double tau) { return std::clamp(tau, 1e-3, kMaxContactViscousTime); };
+    auto runDem = [&](const std::string& name, double tau) -> std::vector<DemHold> {
+        DemRun run;
+        run.name = name;
+        run.viscTime = tau;
+        if (!ctx.run(run, protocolPath, " --relax_C 0 --contact_viscous_time " + fmt(tau))) return {};
+        try {
+            std::vector<double> t, e, s;
+            readDemSeries(ctx.workDir + "/" + name, t, e, s);
+            d.runs.back().rateStep = meanRateStep(speedChanges(t, e, s));
+            return readDemHolds(ctx.workDir + "/" + name);
+        } catch (const InputError&) {
+            return {};  // an unreadable DEM record: the run counts as failed
         }
-    writeComparison(ctx.workDir, rows, d, "time_s", "time (s)", ctx.opt.figures);
+    };
+    const std::vector<DemHold> base = runDem("dem_baseline", 0);
+    if (base.size() < lab.size()) return ctx.fail("baseline DEM run failed or has fewer holds than the recording (log: dem_baseline.log)");
+    const double tauA = clampTau(tauMacro / kRateMacroOverContact);
+    const std::vector<DemHold> augA = runDem("dem_viscous_a", tauA);
+    if (augA.size() < lab.size()) return ctx.fail("augmented DEM run failed (log: dem_viscous_a.log)");
+    std::vector<const std::vector<DemHold>*> all = {&base, &augA};
+    // the secant of the hold drop through the baseline and run a, aimed at the recording's (the drop
+    // grows about in proportion to the viscous time); no second run when it does not grow, or when the
+    // recording's holds lose no more than the baseline's
+    const double drop0 = holdDrop(lab, &base, cal), dropA = holdDrop(lab, &augA, cal);
+    std::vector<DemHold> augB;
+    if (dropA > drop0 && d.labMacro > drop0) {
+        const double tauB = clampTau(tauA * (d.labMacro - drop0) / (dropA - drop0));
+        if (std::abs(tauB / tauA - 1) > 0.05) {
+            augB = runDem("dem_viscous_b", tauB);
+            if (augB.size() < lab.size()) return ctx.fail("augmented DEM run failed (log: dem_viscous_b.log)");
+            all.push_back(&augB);
+        }
+    }
+    for (std::size_t q = 0; q < all.size(); ++q) {
+        d.runs[q].calibrationRmse = holdRmse(lab, *all[q], cal);
+        d.runs[q].heldoutRmse = holdRmse(lab, *all[q], held);
+        d.runs[q].macro = holdDrop(lab, all[q], cal);
+    }
+    d.chosen = all.size() > 2 && d.runs[2].calibrationRmse < d.runs[1].calibrationRmse ? 2 : 1;
+    d.heldoutBaseline = d.runs[0].heldoutRmse;
+    d.heldoutAugmented = d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse;
+    d.status = "done";
+    writeHoldComparison(ctx, lab, all);
     return ctx.finish();
 }
 
@@ -958,6 +1113,75 @@ double hertzSecantStiffness(double modulus, double d, double stress) {
     return f / delta;
 }
 
+std::vector<RateChange> speedChanges(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s) {
+    std::vector<RateChange> out;
+    constexpr std::size_t kMinSide = 8;
+    for (const PhaseSegment& seg : detectPhases(t, e)) {
+        if (seg.phase != Phase::Load && seg.phase != Phase::Reload) continue;
+        const std::size_t b = seg.begin, n = seg.end - seg.begin;
+        if (n < 2 * kMinSide) continue;
+        // prefix sums of 1, t, e, t^2, t e, e^2 for the squared error of a straight line over any range
+        std::vector<double> S1(n + 1), St(n + 1), Se(n + 1), Stt(n + 1), Ste(n + 1), See(n + 1);
+        const double t0 = t[b], e0 = e[b];
+        for (std::size_t i = 0; i < n; ++i) {
+            const double x = t[b + i] - t0, y = e[b + i] - e0;
+            S1[i + 1] = S1[i] + 1, St[i + 1] = St[i] + x, Se[i + 1] = Se[i] + y;
+            Stt[i + 1] = Stt[i] + x * x, Ste[i + 1] = Ste[i] + x * y, See[i + 1] = See[i] + y * y;
+        }
+        // squared error, slope and intercept (at t0) of the least-squares line over samples [i, j)
+        const auto line = [&](std::size_t i, std::size_t j, double& slope, double& icept) {
+            const double m = S1[j] - S1[i], sx = St[j] - St[i], sy = Se[j] - Se[i];
+            const double sxx = Stt[j] - Stt[i] - sx * sx / m, sxy = Ste[j] - Ste[i] - sx * sy / m, syy = See[j] - See[i] - sy * sy / m;
+            slope = sxx > 0 ? sxy / sxx : 0;
+            icept = (sy - slope * sx) / m;
+            return std::max(0.0, syy - (sxx > 0 ? sxy * sxy / sxx : 0));
+        };
+        double best = std::numeric_limits<double>::infinity();
+        std::size_t split = 0;
+        for (std::size_t c = kMinSide; c + kMinSide <= n; ++c) {
+            double a, ai, r, ri;
+            const double err = line(0, c, a, ai) + line(c, n, r, ri);
+            if (err < best) best = err, split = c;
+        }
+        double rateL, iL, rateR, iR;
+        line(0, split, rateL, iL);
+        line(split, n, rateR, iR);
+        if (!(rateL > 0) || !(rateR > 0) || std::max(rateL / rateR, rateR / rateL) < kRateChangeFactor) continue;
+        // where the two pieces meet: the time and strain of the change
+        const double tx = (iR - iL) / (rateL - rateR), ec = e0 + iL + rateL * tx;
+        // the stress step at the change: straight lines of stress against strain on each side, over the
+        // last 40 % of the samples before it and from an eighth to a half of those after it (the stress
+        // a viscosity adds builds up over the first samples after a speed-up), at the strain where the
+        // two pieces of strain against time meet
+        const std::size_t c = b + split, nR = n - split;
+        const auto fitAt = [&](std::size_t i0, std::size_t i1) {  // the fitted stress at ec of samples [i0, i1)
+            double m = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+            for (std::size_t i = i0; i < i1; ++i) {
+                const double x = e[i] - ec;
+                m += 1, sx += x, sy += s[i], sxx += x * x, sxy += x * s[i];
+            }
+            const double den = m * sxx - sx * sx;
+            return den > 0 ? (sy * sxx - sx * sxy) / den : std::numeric_limits<double>::quiet_NaN();  // the intercept at x = 0
+        };
+        const double L = fitAt(c - std::max<std::size_t>(4, 2 * split / 5), c), R = fitAt(c + nR / 8, c + std::max<std::size_t>(nR / 8 + 4, nR / 2));
+        if (!std::isfinite(L) || !std::isfinite(R) || !(L > 0)) continue;
+        RateChange rc;
+        rc.index = c;
+        rc.time = t0 + tx;
+        rc.rateRatio = rateR / rateL;
+        rc.step = (rc.rateRatio > 1 ? 1 : -1) * (R - L) / L;
+        out.push_back(rc);
+    }
+    return out;
+}
+
+double meanRateStep(const std::vector<RateChange>& changes) {
+    if (changes.empty()) return std::numeric_limits<double>::quiet_NaN();
+    double sum = 0;
+    for (const RateChange& c : changes) sum += c.step;
+    return sum / static_cast<double>(changes.size());
+}
+
 std::string defaultDemDriver() {
     std::error_code ec;
     const fs::path self = fs::read_symlink("/proc/self/exe", ec);
@@ -974,7 +1198,8 @@ std::string shellQuote(const std::string& s) {
 namespace {
 /// The reason of a `not_supported` status.
 std::string notWired(const std::string& mechanism) {
-    return "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction, stiffness_nonlinearity and cohesion; " +
+    return "the DEM re-run is implemented for contact_relaxation, plasticity, wall_friction, stiffness_nonlinearity, cohesion and "
+           "rate_dependence; " +
            mechanism + " maps to a driver ingredient (Documentation/tools-explain.md) that is not wired yet";
 }
 } // namespace
@@ -1064,6 +1289,7 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
         case kPlasticity: return confirmPlasticity(ctx, *m, rec, protocolPath);
         case kNonlinearity: return confirmNonlinearity(ctx, *m, rec, protocolPath);
         case kCohesion: return confirmCohesion(ctx, rec, protocolPath);
+        case kRate: return confirmRate(ctx, *m, rec, protocolPath);
         default: return confirmWallFriction(ctx, *m, rec, protocolPath);
     }
 }
@@ -1075,7 +1301,8 @@ bool pullsOnTheBed(const recording::Protocol& p) {
 }
 
 bool demSupported(int comp) {
-    return comp == kRelaxation || comp == kPlasticity || comp == kWallFriction || comp == kNonlinearity || comp == kCohesion;
+    return comp == kRelaxation || comp == kPlasticity || comp == kWallFriction || comp == kNonlinearity || comp == kCohesion ||
+           comp == kRate;
 }
 
 Json demJson(const DemResult& d) {
@@ -1086,6 +1313,8 @@ Json demJson(const DemResult& d) {
     const auto num = [](double x) { return x >= 0 && std::isfinite(x) ? Json(x) : Json(); };
     const bool plastic = d.mechanism == "plasticity", wall = d.mechanism == "wall_friction";
     const bool hertz = d.mechanism == "stiffness_nonlinearity", coh = d.mechanism == "cohesion", branches = plastic || wall || hertz || coh;
+    const bool rate = d.mechanism == "rate_dependence";
+    const auto finite = [](double x) { return std::isfinite(x) ? Json(x) : Json(); };
     j.set("heldout_rmse_baseline", num(d.heldoutBaseline));
     j.set("heldout_rmse_augmented", num(d.heldoutAugmented));
     if (d.status == "done") {
@@ -1094,7 +1323,11 @@ Json demJson(const DemResult& d) {
         j.set(branches ? "heldout_branches" : "heldout_holds", d.heldoutHolds);
         j.set("chosen_run", d.runs[static_cast<std::size_t>(d.chosen)].name);
         if (branches) j.set("stress_scale", d.stressScale);
-        if (!branches) {  // contact_relaxation: the probe that decides whether run b's contacts relax in the ramps
+        if (rate) {
+            j.set("recording_hold_drop_calibration_holds", finite(d.labMacro));
+            j.set("recording_speed_changes", d.rateChanges);
+            j.set("recording_speed_change_step", finite(d.labRateStep));
+        } else if (!branches) {  // contact_relaxation: the probe that decides whether run b's contacts relax in the ramps
             j.set("run_a_hold_t0_over_contact_t0", num(d.rampAgedT0Ratio));
             j.set("ramp_aged_t0_ratio_threshold", kRampAgedT0Ratio);
         }
@@ -1148,6 +1381,10 @@ Json demJson(const DemResult& d) {
             else o.set("wall_friction", r.wallFriction);
             if (d.calibration == "bottom_over_piston_secant") o.set("dem_bottom_over_piston_loading", num(r.transmission));
             o.set("dem_unload_stiffness_ratio_calibration_branches", num(r.macro));
+        } else if (rate) {
+            o.set("contact_viscous_time_s", r.viscTime);
+            o.set("dem_hold_drop_calibration_holds", finite(r.macro));
+            o.set("dem_speed_change_step", finite(r.rateStep));
         } else {
             o.set("relax_C", r.relaxC);
             o.set("relax_t0_s", r.relaxT0);
@@ -1191,7 +1428,7 @@ std::string demMarkdown(const DemResult& d) {
     }
     const DemRun& a = d.runs[static_cast<std::size_t>(d.chosen)];
     const double change = d.heldoutBaseline > 0 ? 100 * (1 - d.heldoutAugmented / d.heldoutBaseline) : 0.0;
-    const bool branches = d.mechanism != "contact_relaxation";
+    const bool branches = d.mechanism != "contact_relaxation" && d.mechanism != "rate_dependence";  // else holds
     const std::string scaled = formatted(" (stresses scaled by %.4g into the material's range", d.stressScale);
     const auto mould = [&] {
         return formatted(" in a mould D = %.3g m across and H = %.3g m high (H/D %.3g; the recording's %.3g), every bed poured "
@@ -1246,6 +1483,18 @@ std::string demMarkdown(const DemResult& d) {
                         d.runs.size() - 1, kMinWallFrictionGuess, d.runs.size() > 1 ? d.runs[1].wallFriction : 0.0,
                         d.calibrationHolds, units, d.heldoutHolds);
         without = "frictionless walls", with = "wall friction";
+    } else if (d.mechanism == "rate_dependence") {
+        os << formatted(", once with the standard contact law and once with a contact viscosity on the lab clock (viscous time "
+                        "%.4g lab s, of %zu values the one with the smaller error on %d hold(s); the stress lost over the last third "
+                        "of those holds: recording %.3g, DEM %.3g with the viscosity, %.3g without)",
+                        a.viscTime, d.runs.size() - 1, d.calibrationHolds, d.labMacro, a.macro, d.runs.front().macro);
+        if (d.rateChanges > 0)
+            os << formatted(". Where the loading speed changes without a stop (%d change(s)), the stress steps by %.3g of the stress "
+                            "there in the recording, %.3g with the viscosity and %.3g without (model-free: straight lines either "
+                            "side; not used in the choice)",
+                            d.rateChanges, d.labRateStep, a.rateStep, d.runs.front().rateStep);
+        os << formatted(". On the %d hold(s) the calibration did not see,", d.heldoutHolds);
+        without = "viscosity", with = "it";
     } else {
         os << formatted(", once with the standard contact law and once with contact relaxation switched on (contact C = "
                         "%.4g, t0 = %.4g s, calibrated on %d hold(s); the contacts relaxing %s",

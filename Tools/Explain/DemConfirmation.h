@@ -69,6 +69,17 @@
 // tension) scored on the reloads (which start in it). The largest tension over the start stress is
 // reported for the recording and every run.
 //
+// And for rate_dependence (since 2026-12-07; driver flag --contact_viscous_time, the Maxwell branch on
+// the lab clock, relaxation off in every run): calibrated, like contact_relaxation, on the lab holds
+// (alternately calibration and held out, the same normalisation g_k(t) = sigma_k(t)/sigma_k(0)), where
+// the viscous stress of the ramp before fades. Runs: baseline (no viscosity); the contact viscous time
+// tau_a = the explainer's macroscopic tau_v / kRateMacroOverContact; tau_b from the secant of the mean
+// hold drop (the stress lost over the last third of the calibration holds, a fraction of the stress at
+// the stop) through the baseline and run a, aimed at the recording's. The run with the smaller
+// calibration error is scored on the held-out holds. The stress step where the loading speed changes
+// without a stop (speedChanges, model-free) is reported for the recording and every run, and not used
+// in the choice (a noisy record measures it poorly).
+//
 // Stiffness_nonlinearity is confirmed only when no other
 // accepted mechanism has a DEM counterpart that can run (wall_friction without the device's size
 // cannot), or when DemOptions::mechanism names it.
@@ -109,6 +120,15 @@ inline constexpr double kMinWallFrictionGuess = 0.2;
 /// this many times the contact t0 (median over the calibration holds), the ramp has aged the contacts
 /// and run b lets them relax in the holds only (measured on the thesis reconstructions: cocoa 1.23, limestone 547).
 inline constexpr double kRampAgedT0Ratio = 3;
+/// rate_dependence: the surrogate's macroscopic tau_v over the contact viscous time of the first
+/// augmented run (--contact_viscous_time); the secant on the hold drop corrects it. Measured on the
+/// DEM-made rate records: 6-12.
+inline constexpr double kRateMacroOverContact = 8;
+/// rate_dependence: the contact viscous time (lab s) of a run stays within [1e-3, kMaxContactViscousTime].
+inline constexpr double kMaxContactViscousTime = 20;
+/// rate_dependence: a change of the loading speed counts as one where the strain rates on its two
+/// sides differ by at least this factor (speedChanges).
+inline constexpr double kRateChangeFactor = 2;
 /// Mean particle diameter of the DEM runs (m; the driver's --d_mean, cocoa).
 inline constexpr double kDemMeanDiameter = 2.5e-3;
 /// Mould diameter of a wall_friction DEM run in `fast` mode, in mean particle diameters (the height
@@ -149,6 +169,26 @@ double hertzSecantStiffness(double modulus, double d, double stress);
 /// dsigma/deps over the unload's top 20 % of stress); NaN with fewer than two unloads or S_hi below
 /// kExponentStressRatio S_lo. About 1/3 for Hertzian contacts on a fixed network, 0 for linear ones.
 double unloadStiffnessExponent(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s);
+/// A change of the loading speed inside one loading (no stop), found model-free in a record.
+struct RateChange {
+    std::size_t index = 0;  ///< first sample of the second piece
+    double time = 0;        ///< s, where the two straight pieces of strain against time meet
+    double rateRatio = 1;   ///< strain rate after over before
+    /// the stress step at the change over the stress there, (R(e_c) - L(e_c)) / L(e_c) at the strain e_c
+    /// where the two pieces meet, with L and R
+    /// straight lines of stress against strain over the last 40 % of the samples before it (at least 4)
+    /// and from an eighth to a half of those after it (at least 4; the first eighth left out: a viscous
+    /// stress builds up there), signed so that a stress that grows with the rate gives a positive step
+    /// at a speed-up and at a slow-down
+    double step = 0;
+};
+/// The loading-speed changes of a record (time, strain, stress): in every loading (Load or Reload phase
+/// of detectPhases) the split of strain against time into two straight pieces with the least squared
+/// error, kept where the two rates differ by kRateChangeFactor and each side has 8 samples or more.
+std::vector<RateChange> speedChanges(const std::vector<double>& t, const std::vector<double>& e, const std::vector<double>& s);
+/// Mean of the steps of speedChanges (NaN without a change).
+double meanRateStep(const std::vector<RateChange>& changes);
+
 struct DemRun {
     std::string name;
     double relaxC = 0, relaxT0 = 0;  ///< contact_relaxation runs
@@ -157,6 +197,9 @@ struct DemRun {
     double wallFriction = 0;         ///< wall_friction runs (mu_w)
     double hertzModulus = 0;         ///< stiffness_nonlinearity runs (E*, Pa; 0: linear contacts)
     double kcOverK = 0;              ///< cohesion runs (Luding kc/k of the particle pairs and the walls)
+    double viscTime = 0;             ///< rate_dependence runs: the contact viscous time (lab s)
+    /// rate_dependence: meanRateStep of the run's record (NaN: no speed change)
+    double rateStep = std::numeric_limits<double>::quiet_NaN();
     double normalStiffnessScale = 1; ///< stiffness_nonlinearity's control run: its linear k over the material's
     /// stiffness_nonlinearity: the unloading stiffness's pressure exponent (NaN: fewer than two unloads far enough apart)
     double exponent = std::numeric_limits<double>::quiet_NaN();
@@ -164,7 +207,8 @@ struct DemRun {
     double transmission = -1;
     double calibrationRmse = -1, heldoutRmse = -1;  ///< Pa
     double heldoutBottomRmse = -1;  ///< wall_friction with a bottom sensor: the held-out branches' bottom stress (Pa)
-    /// contact_relaxation: mean fitted C of the DEM calibration holds; plasticity, wall_friction:
+    /// contact_relaxation: mean fitted C of the DEM calibration holds; rate_dependence: their mean stress
+    /// drop (a fraction of the stress at the stop, over the last third of each hold); plasticity, wall_friction:
     /// unloading stiffness ratio measured on the DEM calibration branches; stiffness_nonlinearity: their
     /// unloading curvature
     double macro = -1;
@@ -194,9 +238,13 @@ struct DemResult {
     std::string controlNote;
     int calibrationHolds = 0, heldoutHolds = 0;  ///< holds (contact_relaxation) or unload/reload branches (the others)
     double stressScale = 1;   ///< plasticity, wall_friction: factor applied to the protocol's stresses
+    /// rate_dependence: the recording's mean hold drop (calibration holds);
     /// plasticity, wall_friction: the recording's unloading stiffness ratio (calibration branches);
     /// stiffness_nonlinearity: the recording's unloading curvature (calibration branches)
     double labMacro = -1;
+    /// rate_dependence: the recording's loading-speed changes and their mean step (NaN: none)
+    int rateChanges = 0;
+    double labRateStep = std::numeric_limits<double>::quiet_NaN();
     /// contact_relaxation: run a's fitted hold t0 over the contact t0, median over the calibration holds (-1: no fit)
     double rampAgedT0Ratio = -1;
     double surrogateValue = -1;  ///< stiffness_nonlinearity: the explainer's exponent n
@@ -223,7 +271,7 @@ std::string defaultDemDriver();
 std::string shellQuote(const std::string& s);
 
 /// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity, wall_friction,
-/// stiffness_nonlinearity, cohesion).
+/// stiffness_nonlinearity, cohesion, rate_dependence).
 bool demSupported(int comp);
 /// Whether a protocol pulls on the bed: an unload with a negative target stress (the lift-off test), the
 /// only place where the DEM's adhesion shows (cohesion's confirmation needs one).
