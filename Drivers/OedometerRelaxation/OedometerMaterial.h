@@ -1,11 +1,15 @@
 // Material presets of the OedometerRelaxation driver: cocoa meso-particles with the chapter 5
-// parameters (thesis Table 5.3) and a non-cohesive frictional material.
+// parameters (thesis Table 5.3) and a non-cohesive frictional material; and the driver's flags that
+// change a preset's contacts (OedometerKnobs: plasticity, adhesion, Hertz, stiffness scale, viscosity)
+// with the contact law they need.
 #pragma once
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "Contacts/ContactParameters.h"
 #include "Core/Error.h"
+#include "IO/NumberFormat.h"
 
 namespace pdpm {
 
@@ -55,5 +59,71 @@ inline void scaleNormalStiffness(ContactParameters& c, double scale) {
     for (double* k : {&c.k, &c.k1, &c.kc}) *k *= scale;
     c.gamma *= std::sqrt(scale);
 }
+
+/// The OedometerRelaxation flags that change a material preset's contacts (the driver registers them,
+/// Documentation/driver-oedometer-relaxation.md has their meaning).
+struct OedometerKnobs {
+    std::string material;
+    double muWall = 0, fillMuWall = -1, kOverK1 = 0, kcOverK = -1, wallKcOverK = 0, hertzModulus = 0, normalScale = 1,
+           viscTime = 0, viscRatio = 4, dMean = 0;
+    std::string contactLaw;        ///< --contact_law
+    bool contactLawGiven = false;  ///< whether --contact_law was on the command line
+
+    /// --contact_law, or with --hertz_modulus the same law parts around a Hertzian normal force, or
+    /// with --contact_viscous_time luding-relax with the viscous branch.
+    std::string lawName() const {
+        if (hertzModulus > 0) return "hertz-rolling-relax";
+        return viscTime > 0 && contactLaw == "luding-relax" ? "luding-relax-viscous" : contactLaw;
+    }
+    /// The law the bed is poured with: lawName(), but the plain law, not luding-relax-viscous with the
+    /// branch off. The two give the same forces, but compiled apart they may differ in the last bit (FMA
+    /// contraction), and the chaotic pour amplified that into another bed (193 against 196 particles at
+    /// seed 1313), so that a viscous run and its plain twin compressed different beds (until 2026-12-07).
+    std::string pourLawName() const { return viscTime > 0 && lawName() == "luding-relax-viscous" ? "luding-relax" : lawName(); }
+    /// --hertz_modulus and --contact_viscous_time need their law in use (not another one given by
+    /// --contact_law or a restart file).
+    void checkLaw(const std::string& law) const {
+        if (hertzModulus > 0 && law != "hertz-rolling-relax")
+            inputError("--hertz_modulus: the contact law in use is '" + law +
+                       "' (from --contact_law or the restart file); Hertz contacts need hertz-rolling-relax");
+        if (viscTime > 0 && (law.size() < 8 || law.compare(law.size() - 8, 8, "-viscous") != 0))
+            inputError("--contact_viscous_time: the contact law in use is '" + law +
+                       "' (from --contact_law, --hertz_modulus or the restart file); the viscosity needs a '-viscous' law (luding-relax-viscous)");
+    }
+    /// The preset with the knobs applied; InputError where they contradict each other or the material.
+    OedometerMaterial apply() const {
+        OedometerMaterial m = oedometerMaterial(material, muWall);
+        for (ContactParameters* c : {&m.pp, &m.pw}) scaleNormalStiffness(*c, normalScale);
+        if (kOverK1 > 0) {
+            if (kOverK1 < 1) inputError("--k_over_k1: expected 0 (the material's value) or at least 1 (k1 <= k), got " + fmt(kOverK1));
+            m.pp.k1 = m.pw.k1 = m.pp.k / kOverK1;
+        }
+        if (kcOverK >= 0) m.pp.kc = kcOverK * m.pp.k;
+        else if (kcOverK != -1) inputError("--kc_over_k: expected -1 (the material's value) or a value >= 0, got " + fmt(kcOverK));
+        m.pw.kc = wallKcOverK * m.pw.k;  // particle-wall adhesion only when asked for
+        if (fillMuWall < 0 && fillMuWall != -1)
+            inputError("--fill_wall_friction: expected -1 (the same as --wall_friction) or a value >= 0, got " + fmt(fillMuWall));
+        if (hertzModulus > 0) {
+            // Hertzian normal force: elastic and non-adhesive, so the material (or the plasticity and
+            // adhesion knobs) must be; the dashpot becomes the restitution of the linear law for two
+            // mean particles
+            if (contactLawGiven && contactLaw != "hertz-rolling-relax")
+                inputError("--hertz_modulus: it sets the contact law hertz-rolling-relax; leave out --contact_law " + contactLaw);
+            if (normalScale != 1)
+                inputError("--normal_stiffness_scale: it scales the linear normal force, which --hertz_modulus replaces (set E* instead)");
+            if (m.pp.k1 != m.pp.k || m.pp.kc != 0 || m.pw.kc != 0)
+                inputError("--hertz_modulus: Hertz contacts are elastic and non-adhesive, the " + material +
+                           " material is not: give --k_over_k1 1 --kc_over_k 0 (and --wall_kc_over_k 0) with it");
+            const double mass = m.density * std::numbers::pi * dMean * dMean * dMean / 6;
+            const double e = restitutionCoefficient(m.pp.k, m.pp.gamma, 0.5 * mass);
+            for (ContactParameters* c : {&m.pp, &m.pw}) {
+                c->youngEff = hertzModulus;
+                c->restitution = e;
+            }
+        }
+        m.dMean = dMean;
+        return m;
+    }
+};
 
 } // namespace pdpm

@@ -35,17 +35,17 @@ public:
         p.add("width", &width_, 6, "d_mean", "lateral period of the periodic box in mean diameters", Range::atLeast(3));
         p.add("fill_height", &fillHeight_, 6, "d_mean", "height of the levelled bed (periodic: in mean diameters)", Range::positive());
         p.add("fill_height_m", &fillHeightM_, 0, "m", "height of the levelled bed in metres (0: use fill_height)", Range::nonNegative());
-        p.add("wall_friction", &muWall_, 0.2, "-", "wall friction mu_w (bottom, piston, mould)", Range::nonNegative());
-        p.add("fill_wall_friction", &fillMuWall_, -1, "-", "wall friction while the bed is poured (-1: the same as --wall_friction)", Range::atLeast(-1));
-        p.add("material", &material_, "cocoa", "material preset", {"cocoa", "frictional"});
-        p.add("k_over_k1", &kOverK1_, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
-        p.add("kc_over_k", &kcOverK_, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
-        p.add("wall_kc_over_k", &wallKcOverK_, 0, "-", "Luding adhesion of the particle-wall pairs (bottom, piston, mould): kc/k (0: walls are not sticky; an unload into tension, unload:V:S with S < 0, pulls on the bed only with sticky walls and adhesive, plastic contacts, else it ends at lift-off)", Range::nonNegative());
-        p.add("hertz_modulus", &hertzModulus_, 0, "Pa", "Hertz contacts: effective Young's modulus E* of a Hertzian normal force in place of Luding's (0: Luding; needs --k_over_k1 1 --kc_over_k 0; the other parts of the law stay)", Range::nonNegative());
-        p.add("contact_viscous_time", &viscTime_, 0, "s", "contact viscosity on the lab clock: viscous time tau_v of a Maxwell branch, contact force k tau_v d(delta)/dt_lab at a steady lab rate (0: off; switches luding-relax to luding-relax-viscous)", Range::nonNegative());
-        p.add("viscous_stiffness_ratio", &viscRatio_, 4, "-", "stiffness of the viscous branch's spring over k: its lag is tau_v / ratio lab seconds, and the time step falls by sqrt(1 + ratio)", Range::positive());
-        p.add("normal_stiffness_scale", &normalScale_, 1, "-", "multiplies the material's normal contact stiffnesses k, k1, kc (the normal dashpot by its square root: the same restitution); tangential, rolling, torsion springs stay", Range::positive());
-        p.add("d_mean", &dMean_, 2.5e-3, "m", "mean particle diameter", Range::positive());
+        p.add("wall_friction", &k_.muWall, 0.2, "-", "wall friction mu_w (bottom, piston, mould)", Range::nonNegative());
+        p.add("fill_wall_friction", &k_.fillMuWall, -1, "-", "wall friction while the bed is poured (-1: the same as --wall_friction)", Range::atLeast(-1));
+        p.add("material", &k_.material, "cocoa", "material preset", {"cocoa", "frictional"});
+        p.add("k_over_k1", &k_.kOverK1, 0, "-", "Luding plasticity: unloading (maximal) over loading stiffness k/k1 (1: elastic; 0: the material's value, cocoa 5)", Range::nonNegative());
+        p.add("kc_over_k", &k_.kcOverK, -1, "-", "Luding adhesion: adhesive stiffness kc/k of particle pairs (0: no adhesion; -1: the material's value, cocoa 0.873)", Range::atLeast(-1));
+        p.add("wall_kc_over_k", &k_.wallKcOverK, 0, "-", "Luding adhesion of the particle-wall pairs (bottom, piston, mould): kc/k (0: walls are not sticky; an unload into tension, unload:V:S with S < 0, pulls on the bed only with sticky walls and adhesive, plastic contacts, else it ends at lift-off)", Range::nonNegative());
+        p.add("hertz_modulus", &k_.hertzModulus, 0, "Pa", "Hertz contacts: effective Young's modulus E* of a Hertzian normal force in place of Luding's (0: Luding; needs --k_over_k1 1 --kc_over_k 0; the other parts of the law stay)", Range::nonNegative());
+        p.add("contact_viscous_time", &k_.viscTime, 0, "s", "contact viscosity on the lab clock: viscous time tau_v of a Maxwell branch, contact force k tau_v d(delta)/dt_lab at a steady lab rate (0: off; switches luding-relax to luding-relax-viscous)", Range::nonNegative());
+        p.add("viscous_stiffness_ratio", &k_.viscRatio, 4, "-", "stiffness of the viscous branch's spring over k: its lag is tau_v / ratio lab seconds, and the time step falls by sqrt(1 + ratio)", Range::positive());
+        p.add("normal_stiffness_scale", &k_.normalScale, 1, "-", "multiplies the material's normal contact stiffnesses k, k1, kc (the normal dashpot by its square root: the same restitution); tangential, rolling, torsion springs stay", Range::positive());
+        p.add("d_mean", &k_.dMean, 2.5e-3, "m", "mean particle diameter", Range::positive());
         p.add("pour_drag_time", &pourDragTime_, 0.1, "s", "drag time of the particles falling while filling (mass-proportional drag; terminal speed g x this)", Range::positive());
         p.add("dt_fraction", &dtFraction_, 25, "-", "time step = t_c / dt_fraction", Range::atLeast(10));
         p.add("gravity", &gravityOn_, true, "gravity along -z");
@@ -74,14 +74,14 @@ protected:
             c->relaxT0 = relaxT0_;
             c->relaxMemory = relaxMemory_;
             c->relaxTimeScale = c->viscTimeScale = 0;  // no lab time passes while filling
-            c->viscTime = viscTime_;
-            c->viscStiffnessRatio = viscRatio_;
+            c->viscTime = k_.viscTime;
+            c->viscStiffnessRatio = k_.viscRatio;
         }
-        const double rMean = 0.5 * dMean_;
+        const double rMean = 0.5 * k_.dMean;
         // r_max / r_min = sizeRatio with mean radius rMean (uniform distribution)
         const double rMin = 2 * rMean / (1 + mat_.sizeRatio), rMax = mat_.sizeRatio * rMin;
-        const double H = fillHeightM_ > 0 ? fillHeightM_ : fillHeight_ * dMean_;
-        double lx = width_ * dMean_;
+        const double H = fillHeightM_ > 0 ? fillHeightM_ : fillHeight_ * k_.dMean;
+        double lx = width_ * k_.dMean;
         double R = 0.5 * diameter_;
         if (cylinder()) lx = diameter_;
         // Particle count: the poured beds settle at a volume fraction of 0.53-0.57 (0.533 in the FT4
@@ -160,7 +160,7 @@ protected:
             inputError("restart file: mould wall or poured count out of range");
         ConfinedCompression::actionsOnRestart();
         loadMaterial();
-        checkLaw(*this);
+        k_.checkLaw(contactLaw().name());
     }
 
     void actionsBeforeTimeLoop() override {
@@ -196,13 +196,13 @@ protected:
     void describe(recording::Protocol& p, Json& extra) const override {
         p.device = device_;
         p.diameter = cylinder() ? diameter_ : 0;
-        p.wallFriction = muWall_;
+        p.wallFriction = k_.muWall;
         p.material = Json::object({{"name", mat_.name},
                                    {"density_kg_m3", mat_.density},
-                                   {"d_mean_m", dMean_},
+                                   {"d_mean_m", k_.dMean},
                                    {"r_max_over_r_min", mat_.sizeRatio},
                                    {"contact_law", contactLaw().name()},
-                                   {"E_star_Pa", hertzModulus_},
+                                   {"E_star_Pa", k_.hertzModulus},
                                    {"k_N_m", mat_.pp.k},
                                    {"k1_N_m", mat_.pp.k1},
                                    {"kc_N_m", mat_.pp.kc},
@@ -213,68 +213,22 @@ protected:
                                    {"relax_C", relaxC_},
                                    {"relax_t0_s", relaxT0_},
                                    {"relax_memory", relaxMemory_},
-                                   {"contact_viscous_time_s", viscTime_}});
+                                   {"contact_viscous_time_s", k_.viscTime}});
         extra.set("particles", static_cast<double>(particles().size()));
         extra.set("geometry", geometry_);
-        extra.set("fill_wall_friction", fillMuWall_ >= 0 ? fillMuWall_ : muWall_);  // mu_w while the bed was poured
+        extra.set("fill_wall_friction", k_.fillMuWall >= 0 ? k_.fillMuWall : k_.muWall);  // mu_w while the bed was poured
         extra.set("lateral_period_m", cylinder() ? 0.0 : box().length().x);
     }
 
 private:
     bool cylinder() const { return geometry_ == "cylinder"; }
-    /// --contact_law, or with --hertz_modulus the same law parts around a Hertzian normal force, or
-    /// with --contact_viscous_time luding-relax with the viscous branch.
-    std::string lawName() const {
-        if (hertzModulus_ > 0) return "hertz-rolling-relax";
-        const std::string law = parameters().get("contact_law");
-        return viscTime_ > 0 && law == "luding-relax" ? "luding-relax-viscous" : law;
-    }
-    /// --hertz_modulus and --contact_viscous_time need their law in use (not another one given by
-    /// --contact_law or a restart file).
-    void checkLaw(const DPMBase& d) const {
-        const std::string law = d.contactLaw().name();
-        if (hertzModulus_ > 0 && law != "hertz-rolling-relax")
-            inputError("--hertz_modulus: the contact law in use is '" + law +
-                       "' (from --contact_law or the restart file); Hertz contacts need hertz-rolling-relax");
-        if (viscTime_ > 0 && (law.size() < 8 || law.compare(law.size() - 8, 8, "-viscous") != 0))
-            inputError("--contact_viscous_time: the contact law in use is '" + law +
-                       "' (from --contact_law, --hertz_modulus or the restart file); the viscosity needs a '-viscous' law (luding-relax-viscous)");
-    }
-    /// Material preset from the parameters (also after a restart).
+    /// Material preset and contact knobs from the parameters (also after a restart).
     void loadMaterial() {
-        mat_ = oedometerMaterial(material_, muWall_);
-        for (ContactParameters* c : {&mat_.pp, &mat_.pw}) scaleNormalStiffness(*c, normalScale_);
-        if (kOverK1_ > 0) {
-            if (kOverK1_ < 1) inputError("--k_over_k1: expected 0 (the material's value) or at least 1 (k1 <= k), got " + fmt(kOverK1_));
-            mat_.pp.k1 = mat_.pw.k1 = mat_.pp.k / kOverK1_;
-        }
-        if (kcOverK_ >= 0) mat_.pp.kc = kcOverK_ * mat_.pp.k;
-        else if (kcOverK_ != -1) inputError("--kc_over_k: expected -1 (the material's value) or a value >= 0, got " + fmt(kcOverK_));
-        mat_.pw.kc = wallKcOverK_ * mat_.pw.k;  // particle-wall adhesion only when asked for
-        if (fillMuWall_ < 0 && fillMuWall_ != -1)
-            inputError("--fill_wall_friction: expected -1 (the same as --wall_friction) or a value >= 0, got " + fmt(fillMuWall_));
-        if (hertzModulus_ > 0) {
-            // Hertzian normal force: elastic and non-adhesive, so the material (or the plasticity and
-            // adhesion knobs) must be; the dashpot becomes the restitution of the linear law for two
-            // mean particles
-            if (parameters().wasSetOnCommandLine("contact_law") && parameters().get("contact_law") != "hertz-rolling-relax")
-                inputError("--hertz_modulus: it sets the contact law hertz-rolling-relax; leave out --contact_law " +
-                           parameters().get("contact_law"));
-            if (normalScale_ != 1)
-                inputError("--normal_stiffness_scale: it scales the linear normal force, which --hertz_modulus replaces (set E* instead)");
-            if (mat_.pp.k1 != mat_.pp.k || mat_.pp.kc != 0 || mat_.pw.kc != 0)
-                inputError("--hertz_modulus: Hertz contacts are elastic and non-adhesive, the " + material_ +
-                           " material is not: give --k_over_k1 1 --kc_over_k 0 (and --wall_kc_over_k 0) with it");
-            const double m = mat_.density * std::numbers::pi * dMean_ * dMean_ * dMean_ / 6;
-            const double e = restitutionCoefficient(mat_.pp.k, mat_.pp.gamma, 0.5 * m);
-            for (ContactParameters* c : {&mat_.pp, &mat_.pw}) {
-                c->youngEff = hertzModulus_;
-                c->restitution = e;
-            }
-        }
-        mat_.dMean = dMean_;
+        k_.contactLaw = parameters().get("contact_law");
+        k_.contactLawGiven = parameters().wasSetOnCommandLine("contact_law");
+        mat_ = k_.apply();
         grainDensity_ = mat_.density;
-        grainSize_ = dMean_;
+        grainSize_ = k_.dMean;
     }
     void setupSpecies(DPMBase& d, double relaxC, bool settling = false) {
         ContactParameters pp = mat_.pp, pw = mat_.pw;
@@ -282,15 +236,11 @@ private:
         if (settling) {  // (no lab time passes while pouring: no viscous branch, and its time step)
             pp.kc = pw.kc = 0;
             pp.viscTime = pw.viscTime = 0;
-            if (fillMuWall_ >= 0) pw.muS = pw.muD = fillMuWall_;
-            // the plain law, not luding-relax-viscous with the branch off: the same forces, but
-            // compiled apart they may differ in the last bit (FMA contraction), and the chaotic pour
-            // amplified that into another bed (193 against 196 particles at seed 1313), so that a
-            // viscous run and its plain twin compressed different beds
-            d.setContactLaw(viscTime_ > 0 && lawName() == "luding-relax-viscous" ? "luding-relax" : lawName());
+            if (k_.fillMuWall >= 0) pw.muS = pw.muD = k_.fillMuWall;
+            d.setContactLaw(k_.pourLawName());
         } else {
-            d.setContactLaw(lawName());
-            checkLaw(d);
+            d.setContactLaw(k_.lawName());
+            k_.checkLaw(d.contactLaw().name());
         }
         const int a = d.addSpecies(mat_.name, mat_.density, pp);
         const int w = d.addSpecies("wall", mat_.density, pp);
@@ -301,11 +251,11 @@ private:
         else d.setDomain({0, 0, 0}, {lx, lx, zTop}, true, true, false);
     }
 
-    std::string geometry_, device_, material_;
-    double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0, muWall_ = 0, dMean_ = 0;
-    double pourDragTime_ = 0.1, dtFraction_ = 25, kOverK1_ = 0, kcOverK_ = -1, wallKcOverK_ = 0, fillMuWall_ = -1, hertzModulus_ = 0, normalScale_ = 1,
-           viscTime_ = 0, viscRatio_ = 4;
+    std::string geometry_, device_;
+    double diameter_ = 0, width_ = 0, fillHeight_ = 0, fillHeightM_ = 0;
+    double pourDragTime_ = 0.1, dtFraction_ = 25;
     bool gravityOn_ = true;
+    OedometerKnobs k_;  ///< the flags that change the material's contacts
     OedometerMaterial mat_;
     long mouldWall_ = -1;
     double fillTime_ = 0, poured_ = 0;
