@@ -2,6 +2,8 @@
 // is re-run on the recording's protocol without and with the matching contact ingredient, the
 // ingredient's parameter is calibrated on part of the record, and both runs are scored on the part
 // the calibration did not see. Documentation/tools-explain.md ("DEM confirmation") has the method.
+// The shared machinery is DemRuns.h; the hold confirmations are in DemHoldConfirmations.cc, the
+// branch confirmations in DemBranchConfirmations.cc.
 //
 // Implemented for contact_relaxation (contact law ingredient Relaxing<...>, driver flags --relax_C,
 // --relax_t0): the lab holds are split alternately into calibration holds (1st, 3rd, ...) and
