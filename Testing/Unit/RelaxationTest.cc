@@ -22,17 +22,6 @@ using namespace pdpm;
 
 namespace {
 
-ContactParameters linearParams(double C, double t0, double scale) {
-    ContactParameters p;
-    p.k = 1e4;
-    p.gamma = 0;
-    p.kt = 0;
-    p.muS = p.muD = 0.5;
-    p.relaxC = C;
-    p.relaxT0 = t0;
-    p.relaxTimeScale = scale;
-    return p;
-}
 
 ContactParameters hertzParams(double C, double t0, double scale) {
     ContactParameters p;
@@ -99,16 +88,16 @@ TEST(Relaxation, RegisteredByName) {
 
 TEST(Relaxation, ValidateRefusesBadParameters) {
     const auto law = makeContactLaw("linear-relax");
-    EXPECT_NO_THROW(law->validate(linearParams(0.08, 0.3, 1), "pair"));
-    EXPECT_THROW(law->validate(linearParams(-0.1, 0.3, 1), "pair"), InputError);
-    EXPECT_THROW(law->validate(linearParams(0.08, 0, 1), "pair"), InputError);
-    EXPECT_THROW(law->validate(linearParams(0.08, 0.3, -1), "pair"), InputError);
+    EXPECT_NO_THROW(law->validate(test::linearRelaxParams(0.08, 0.3, 1), "pair"));
+    EXPECT_THROW(law->validate(test::linearRelaxParams(-0.1, 0.3, 1), "pair"), InputError);
+    EXPECT_THROW(law->validate(test::linearRelaxParams(0.08, 0, 1), "pair"), InputError);
+    EXPECT_THROW(law->validate(test::linearRelaxParams(0.08, 0.3, -1), "pair"), InputError);
 }
 
 TEST(Relaxation, HeldOverlapFollowsEq43Linear) {
     double ratio = 1;
     // 300 lab seconds in 3000 steps of 1e-5 s DEM time (scale 1e4 lab s per DEM s).
-    const double dev = holdDeviation("linear-relax", linearParams(0.0792, 0.2894, 1e4), 1e-5, 1e-5, 3000, &ratio);
+    const double dev = holdDeviation("linear-relax", test::linearRelaxParams(0.0792, 0.2894, 1e4), 1e-5, 1e-5, 3000, &ratio);
     EXPECT_LT(dev, 1e-9);  // the step factors telescope: exact up to round-off
     // The decay is substantial: (1 + 300/0.2894)^(-0.0792) ~ 0.58.
     EXPECT_LT(ratio, 0.62);
@@ -128,7 +117,7 @@ TEST(Relaxation, HeldOverlapFollowsEq43Luding) {
 
 TEST(Relaxation, OffMeansBaseLaw) {
     for (const auto& [relaxName, baseName, p] :
-         {std::tuple{"linear-relax", "linear", linearParams(0, 0.3, 1e4)},
+         {std::tuple{"linear-relax", "linear", test::linearRelaxParams(0, 0.3, 1e4)},
           std::tuple{"luding-relax", "luding", ludingParams(0, 0.3, 1e4)},
           std::tuple{"hertz-mindlin-relax", "hertz-mindlin", hertzParams(0, 0.3, 1e4)}}) {
         const auto a = makeContactLaw(relaxName), b = makeContactLaw(baseName);
@@ -151,7 +140,7 @@ TEST(Relaxation, OffMeansBaseLaw) {
     }
     // Time scale 0: clock frozen, no decay even with C > 0.
     double ratio = 0;
-    holdDeviation("linear-relax", linearParams(0.08, 0.3, 0), 1e-5, 1e-5, 100, &ratio);
+    holdDeviation("linear-relax", test::linearRelaxParams(0.08, 0.3, 0), 1e-5, 1e-5, 100, &ratio);
     EXPECT_EQ(ratio, 1.0);
 }
 
@@ -159,7 +148,7 @@ TEST(Relaxation, ReloadingAfterHold) {
     // Linear base: after a hold the elastic overlap is delta - delta_p. Reloading is elastic with
     // stiffness k from the relaxed force (the clock keeps running but the force is then mostly the
     // new elastic increment); once the force exceeds the pre-hold maximum f_ref the clock restarts.
-    const ContactParameters p = linearParams(0.08, 0.3, 1e4);
+    const ContactParameters p = test::linearRelaxParams(0.08, 0.3, 1e4);
     const auto law = makeContactLaw("linear-relax");
     Contact c(*law, p);
     const double dt = 1e-5, d1 = 1e-5;
@@ -196,7 +185,7 @@ TEST(Relaxation, EnergyBookkeeping) {
     // work dissipated by relaxation (history slot W_relax).
     for (const char* name : {"linear-relax", "hertz-mindlin-relax"}) {
         const bool hertz = std::string(name).rfind("hertz", 0) == 0;
-        const ContactParameters p = hertz ? hertzParams(0.06, 0.3, 1e4) : linearParams(0.06, 0.3, 1e4);
+        const ContactParameters p = hertz ? hertzParams(0.06, 0.3, 1e4) : test::linearRelaxParams(0.06, 0.3, 1e4);
         const auto law = makeContactLaw(name);
         Contact c(*law, p);
         const double dt = 1e-5, dmax = hertz ? 5e-6 : 1e-5;
@@ -246,7 +235,7 @@ TEST(Relaxation, ClockMemoryShortensTheClockByTheLoadRatio) {
     // from that age: f(t) = f_new ((t0 + t_s + t)/(t0 + t_s))^(-C).
     const double C = 0.08, t0 = 0.3, scale = 1e4, dt = 1e-5, d1 = 1e-5;
     for (double m : {0.0, 0.1, 0.5}) {
-        ContactParameters p = linearParams(C, t0, scale);
+        ContactParameters p = test::linearRelaxParams(C, t0, scale);
         p.relaxMemory = m;
         const auto law = makeContactLaw("linear-relax");
         Contact c(*law, p);
@@ -289,7 +278,7 @@ TEST(Relaxation, ClockMemoryShortensTheClockByTheLoadRatio) {
     }
     // An aged contact relaxes less in its next hold than a restarted one.
     auto dropAfterReload = [&](double m) {
-        ContactParameters p = linearParams(C, t0, scale);
+        ContactParameters p = test::linearRelaxParams(C, t0, scale);
         p.relaxMemory = m;
         const auto law = makeContactLaw("linear-relax");
         Contact c(*law, p);
@@ -306,7 +295,7 @@ TEST(Relaxation, ClockMemoryShortensTheClockByTheLoadRatio) {
     EXPECT_GT(restarted, 0.35);
     EXPECT_LT(aged, 0.8 * restarted);
     // Validation refuses a negative memory.
-    ContactParameters bad = linearParams(C, t0, scale);
+    ContactParameters bad = test::linearRelaxParams(C, t0, scale);
     bad.relaxMemory = -1;
     EXPECT_THROW(makeContactLaw("linear-relax")->validate(bad, "pair"), InputError);
 }

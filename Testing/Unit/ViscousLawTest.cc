@@ -25,14 +25,7 @@ using namespace pdpm;
 namespace {
 
 ContactParameters linearViscous(double tauV, double M, double scale) {
-    ContactParameters p;
-    p.k = 1e4;
-    p.gamma = 0;
-    p.kt = 0;
-    p.muS = p.muD = 0.5;
-    p.relaxC = 0;  // relaxation off: the base is the linear spring
-    p.relaxT0 = 1;
-    p.relaxTimeScale = scale;
+    ContactParameters p = test::linearRelaxParams(0, 1, scale);  // relaxation off: the base is the linear spring
     p.viscTime = tauV;
     p.viscStiffnessRatio = M;
     p.viscTimeScale = scale;
