@@ -75,11 +75,25 @@ struct OedometerKnobs {
         if (hertzModulus > 0) return "hertz-rolling-relax";
         return viscTime > 0 && contactLaw == "luding-relax" ? "luding-relax-viscous" : contactLaw;
     }
-    /// The law the bed is poured with: lawName(), but the plain law, not luding-relax-viscous with the
-    /// branch off. The two give the same forces, but compiled apart they may differ in the last bit (FMA
-    /// contraction), and the chaotic pour amplified that into another bed (193 against 196 particles at
-    /// seed 1313), so that a viscous run and its plain twin compressed different beds (until 2026-12-07).
-    std::string pourLawName() const { return viscTime > 0 && lawName() == "luding-relax-viscous" ? "luding-relax" : lawName(); }
+    /// The bed is poured with the material's own contacts whatever the knobs that compare contact
+    /// laws on it (--hertz_modulus, --normal_stiffness_scale, --contact_viscous_time), so that a run
+    /// with one of them and its twin without compress the same bed: the law is luding-relax for a
+    /// Hertzian or viscous run (luding-relax-viscous with the branch off gives the same forces, but
+    /// compiled apart it may differ in the last bit, FMA contraction, and the chaotic pour amplified
+    /// that into another bed: 193 against 196 particles at seed 1313, until 2026-12-07), and the
+    /// material is pourMaterial(). Hertzian and stiffness-scaled runs poured their own beds until
+    /// 2026-12-07 (session 42).
+    std::string pourLawName() const {
+        if (hertzModulus > 0) return "luding-relax";
+        return lawName() == "luding-relax-viscous" ? "luding-relax" : lawName();
+    }
+    /// The material the bed is poured with: apply() without the Hertz modulus and the stiffness scale.
+    OedometerMaterial pourMaterial() const {
+        OedometerKnobs plain = *this;
+        plain.hertzModulus = 0;
+        plain.normalScale = 1;
+        return plain.apply();
+    }
     /// --hertz_modulus and --contact_viscous_time need their law in use (not another one given by
     /// --contact_law or a restart file).
     void checkLaw(const std::string& law) const {

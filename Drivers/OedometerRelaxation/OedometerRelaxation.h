@@ -69,7 +69,7 @@ protected:
     void setupInitialConditions() override {
         loadProtocol();
         loadMaterial();
-        for (ContactParameters* c : {&mat_.pp, &mat_.pw}) {
+        for (ContactParameters* c : {&mat_.pp, &mat_.pw, &pourMat_.pp, &pourMat_.pw}) {
             c->relaxC = relaxC_;
             c->relaxT0 = relaxT0_;
             c->relaxMemory = relaxMemory_;
@@ -227,11 +227,16 @@ private:
         k_.contactLaw = parameters().get("contact_law");
         k_.contactLawGiven = parameters().wasSetOnCommandLine("contact_law");
         mat_ = k_.apply();
+        pourMat_ = k_.pourMaterial();
         grainDensity_ = mat_.density;
         grainSize_ = k_.dMean;
     }
     void setupSpecies(DPMBase& d, double relaxC, bool settling = false) {
         ContactParameters pp = mat_.pp, pw = mat_.pw;
+        if (settling) {  // the plain material (OedometerKnobs::pourLawName says why)
+            pp = pourMat_.pp;
+            pw = pourMat_.pw;
+        }
         pp.relaxC = pw.relaxC = relaxC;
         if (settling) {  // (no lab time passes while pouring: no viscous branch, and its time step)
             pp.kc = pw.kc = 0;
@@ -256,7 +261,7 @@ private:
     double pourDragTime_ = 0.1, dtFraction_ = 25;
     bool gravityOn_ = true;
     OedometerKnobs k_;  ///< the flags that change the material's contacts
-    OedometerMaterial mat_;
+    OedometerMaterial mat_, pourMat_;  ///< the test's material, the pour's (OedometerKnobs::pourLawName)
     long mouldWall_ = -1;
     double fillTime_ = 0, poured_ = 0;
 };

@@ -13,13 +13,16 @@
 //  3. a Hertzian bed (E* = 1e7 Pa), whose contacts soften as the force falls, unloads along a more
 //     curved branch than the same bed with linear contacts: the unloading tangent at the top over the
 //     secant to 20 % of the start stress (pdpm-explain's estimator) is larger by at least 0.15.
-//     Measured 2026-12-04 on this bed: linear 1.235, Hertz 1.576 (E* = 5e7: 1.337, 5e6: 1.582); on
+//     Measured 2026-12-07 on this bed (all three runs poured with linear contacts): linear 1.235, Hertz
+//     1.545, linear k x 0.0728 1.487; 2026-12-04, each bed poured with its own law: Hertz 1.576 (E* = 5e7:
+//     1.337, 5e6: 1.582); on
 //     beds of about 900 particles, seeds 1-3 and 777: linear 1.08-1.17, Hertz E* = 5e7 1.32-1.41,
 //     E* = 5e6 1.66-1.71;
 //  4. --normal_stiffness_scale 0.0728 (the secant stiffness of Hertz at E* = 1e7 Pa and 20 kPa, as in
 //     pdpm-explain's control run) scales k in the protocol file, and that bed is compressed further;
 //     its unloading curvature is printed, not checked;
-//  5. --hertz_modulus without --k_over_k1 1 --kc_over_k 0, or with --normal_stiffness_scale, is refused (exit 2).
+//  5. the three runs compress the same poured bed (particle count and bed height);
+//  6. --hertz_modulus without --k_over_k1 1 --kc_over_k 0, or with --normal_stiffness_scale, is refused (exit 2).
 #include <algorithm>
 #include <cmath>
 
@@ -34,6 +37,8 @@ namespace {
 struct Unload {
     double curvature = -1, topStrain = 0;
     int rc = -1;
+    std::size_t particles = 0;  ///< the poured bed: particle count and height
+    double height = 0;
     /// the bed's particle pairs in contact at the end of the run: the median of |f_n / Hertz - 1|
     /// (Hertz: 4/3 E* sqrt(R) delta^(3/2), R = r_i r_j / (r_i + r_j)), and the slope of ln(f_n / sqrt(R))
     /// against ln(delta) (least squares)
@@ -77,6 +82,8 @@ Unload run(const std::string& modulus, const std::string& normalScale = "1") {
     if (modulus != "0") args.insert(args.end(), {"--hertz_modulus", modulus});
     u.rc = oedometer_selftest::runDriver(d, args);
     if (u.rc != 0) return u;
+    u.particles = d.particles().size();
+    u.height = readJsonFile("e" + modulus + "_" + normalScale + ".protocol.json").at("device").at("height_m").asNumber();
     if (modulus != "0") hertzContacts(d, std::stod(modulus), u);
     const auto& rec = d.recordingData();
     const int cs = rec.column("step"), ce = rec.column("axial_strain"), cp = rec.column("axial_stress_Pa");
@@ -110,6 +117,13 @@ int main() {
     if (lin.rc != 0 || hz.rc != 0 || soft.rc != 0) return 1;
     std::printf("     unloading curvature (tangent at the top / secant to 20 %%): linear %.4g, Hertz %.4g, linear k x 0.0728 %.4g\n",
                 lin.curvature, hz.curvature, soft.curvature);
+    // the three runs pour with the material's linear contacts (OedometerKnobs::pourLawName): they
+    // compress the same bed, so that the differences are the contacts' (until 2026-12-07 the Hertzian
+    // and the softer run poured their own beds)
+    std::printf("     beds: %zu / %zu / %zu particles, %.10g / %.10g / %.10g m high\n", lin.particles, hz.particles, soft.particles,
+                lin.height, hz.height, soft.height);
+    ok &= check(lin.particles == hz.particles && lin.particles == soft.particles && lin.height == hz.height && lin.height == soft.height,
+                "the three runs compress the same poured bed");
     const Json proto = readJsonFile("e1e7_1.protocol.json");
     ok &= check(proto.at("material").at("contact_law").asString() == "hertz-rolling-relax", "the protocol file names the Hertz law");
     ok &= check(proto.at("material").at("E_star_Pa").asNumber() == 1e7, "the protocol file has E*");
