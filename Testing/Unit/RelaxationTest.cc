@@ -29,10 +29,7 @@ ContactParameters hertzParams(double C, double t0, double scale) {
     p.shearEff = 4e6;
     p.restitution = 1;
     p.muS = p.muD = 0.5;
-    p.relaxC = C;
-    p.relaxT0 = t0;
-    p.relaxTimeScale = scale;
-    return p;
+    return test::withRelaxation(p, C, t0, scale);
 }
 
 ContactParameters ludingParams(double C, double t0, double scale) {
@@ -46,10 +43,7 @@ ContactParameters ludingParams(double C, double t0, double scale) {
     p.muS = p.muD = 0.5;
     p.kr = 0.286 * p.k;
     p.muR = 0.5;
-    p.relaxC = C;
-    p.relaxT0 = t0;
-    p.relaxTimeScale = scale;
-    return p;
+    return test::withRelaxation(p, C, t0, scale);
 }
 
 // History of a composed law: the normal part's doubles come first; for Relaxing<NormalLinear> and

@@ -7,18 +7,22 @@
 
 namespace pdpm::test {
 
-/// Linear contact parameters (k = 1e4, no dashpot, no tangential spring, mu 0.5) of the relaxing law,
-/// contact C and t0, its clock running `scale` lab seconds per simulated second.
+/// p with the relaxing law's contact C and t0, its clock running `scale` lab seconds per simulated second.
+inline ContactParameters withRelaxation(ContactParameters p, double C, double t0, double scale) {
+    p.relaxC = C;
+    p.relaxT0 = t0;
+    p.relaxTimeScale = scale;
+    return p;
+}
+
+/// Linear contact parameters (k = 1e4, no dashpot, no tangential spring, mu 0.5) of the relaxing law.
 inline ContactParameters linearRelaxParams(double C, double t0, double scale) {
     ContactParameters p;
     p.k = 1e4;
     p.gamma = 0;
     p.kt = 0;
     p.muS = p.muD = 0.5;
-    p.relaxC = C;
-    p.relaxT0 = t0;
-    p.relaxTimeScale = scale;
-    return p;
+    return withRelaxation(p, C, t0, scale);
 }
 
 inline ContactState headOnState(double overlap, double dt, double rate = 0) {
