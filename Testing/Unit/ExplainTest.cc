@@ -14,6 +14,7 @@
 #include "Core/Error.h"
 #include "DemCases.h"
 #include "DemConfirmation.h"
+#include "DemRuns.h"
 #include "Explain.h"
 #include "ExplainBench.h"
 #include "IO/AtomicFile.h"
@@ -1780,6 +1781,46 @@ TEST(ExplainCommand, UnloadStiffnessExponentComparesTheUnloadsOfTwoStressLevels)
     EXPECT_TRUE(std::isnan(unloadStiffnessExponent(one.t, one.strain, one.stress)));
 }
 
+// The held-out reload of the stiffness_nonlinearity confirmation, judged from its own start: a DEM
+// reload of the lab's shape but begun elsewhere on the u scale (where another bed's unload ended)
+// predicts the lab reload exactly from its start and misses it on the u scale; one of another shape
+// (straight where the lab's climbs as a power) misses it either way.
+TEST(ExplainDemBranches, ReloadJudgedFromItsStartSeesTheShapeNotTheOffset) {
+    using dem::Branch;
+    using dem::BranchJudge;
+    // a reload from (u0, y0) to (u0 - 0.5, 1), climbing as y0 + (1 - y0) x^power
+    const auto reload = [](double u0, double y0, double power) {
+        Branch b;
+        b.phase = Phase::Reload;
+        b.sRef = 20e3;
+        for (int i = 0; i <= 20; ++i) {
+            const double x = i / 20.0;  // 0 at the reload's start, 1 at the top
+            b.u.push_back(u0 - 0.5 * x);
+            b.y.push_back(y0 + (1 - y0) * std::pow(x, power));
+            b.s.push_back(b.sRef * b.y.back());
+            b.e.push_back(x);
+        }
+        return b;
+    };
+    const std::vector<Branch> lab = {reload(0.5, 0.05, 1.5)};
+    // the same shape, begun at u 0.6 (not 0.5; the other bed's unload recovered more strain), at y0 0.05
+    // as the protocol's target stress
+    const std::vector<Branch> shifted = {reload(0.6, 0.05, 1.5)};
+    const std::vector<double> fromStart = dem::branchPredict(lab, shifted, 0, BranchJudge::StressFromStart);
+    ASSERT_EQ(fromStart.size(), lab[0].s.size());
+    for (std::size_t i = 0; i < fromStart.size(); ++i) EXPECT_NEAR(fromStart[i], lab[0].s[i], 1e-9 * lab[0].sRef) << i;
+    EXPECT_DOUBLE_EQ(fromStart.front(), lab[0].s.front()) << "the reload starts where the lab's unload ended";
+    const std::vector<std::size_t> held = {0};
+    const double fromStartRmse = dem::branchRmse(lab, shifted, held, BranchJudge::StressFromStart);
+    const double uScaleRmse = dem::branchRmse(lab, shifted, held);
+    EXPECT_GT(uScaleRmse, 5 * fromStartRmse) << uScaleRmse << " vs " << fromStartRmse;
+    // another shape (straight) from the same start: missed either way
+    const std::vector<Branch> straight = {reload(0.5, 0.05, 1.0)};
+    EXPECT_GT(dem::branchRmse(lab, straight, held, BranchJudge::StressFromStart), 5 * fromStartRmse);
+    EXPECT_NEAR(dem::branchRmse(lab, straight, held, BranchJudge::StressFromStart), dem::branchRmse(lab, straight, held), 1e-9)
+        << "begun at the lab's u, the two judges agree";
+}
+
 namespace {
 /// Two cycles: load at stiffness E to s1, unload along s = s_top (1 - (e_top - e)/x_h)^m (top tangent
 /// T1, down to 5 % of s1), reload the same way, load on to s2, the same unload with top tangent
@@ -1921,7 +1962,13 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     EXPECT_NEAR(c.macro, d.labMacro, 0.1 * (d.labMacro - 1)) << "the chosen run unloads as curved as the recording";
     EXPECT_NEAR(std::log10(eMatch / c.hertzModulus), 1.5, 0.15) << "m = 1.6 at E_match / 10^1.5";
     EXPECT_GT(d.heldoutBaseline, 0.0);
-    EXPECT_LT(d.heldoutAugmented, 0.1 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
+    // The reload is judged from its start (where the unload ended), and there the chosen run's m, set
+    // by the curvature within 10 % of its excess, leaves the reload's span in u slightly off (m = 1.55 against 1.6 moves it by 1.1 %), which
+    // the stand-in's steep top (slope 3m in y per u) turns into a few kPa of its 400 kPa (about 18 % of
+    // the straight run's error). On the u scale, where lab and DEM both begin at the top and the span
+    // shows at the flat bottom, the same run is within 10 %.
+    EXPECT_LT(d.heldoutAugmented, 0.25 * d.heldoutBaseline) << d.heldoutAugmented << " vs " << d.heldoutBaseline;
+    EXPECT_LT(d.heldoutUScaleAugmented, 0.1 * d.heldoutUScaleBaseline) << d.heldoutUScaleAugmented << " vs " << d.heldoutUScaleBaseline;
     const std::string calls = readWholeFile(dir + "/dem/calls.txt");
     EXPECT_EQ(calls.substr(0, calls.find('\n')), "0 0.04 frictional 1 0 0 1") << "linear, frictional material, elastic, no adhesion, no relaxation";
     // the control run: last, linear, at the chosen E*'s secant stiffness; the stand-in's curvature
@@ -1940,6 +1987,12 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     EXPECT_NEAR(j.at("runs").asArray("runs")[1].at("hertz_modulus_Pa").asNumber(), eMatch / 10, 1e-6 * eMatch);
     EXPECT_EQ(j.at("control_run").asString(), "dem_linear_control");
     EXPECT_FALSE(j.at("contact_law_distinguished").asBool());
+    // the reloads judged from their start; the u-scale errors reported beside them
+    EXPECT_EQ(j.at("heldout_judge").asString(), "reload_from_its_start");
+    EXPECT_NEAR(j.at("heldout_rmse_u_scale_baseline").asNumber(), d.heldoutUScaleBaseline, 1e-9);
+    EXPECT_GT(d.heldoutUScaleBaseline, 0.0);
+    EXPECT_GE(d.heldoutUScaleAugmented, 0.0);
+    EXPECT_GE(j.at("runs").asArray("runs")[1].at("heldout_rmse_u_scale_Pa").asNumber(), 0.0);
     const std::string md = demMarkdown(d);
     EXPECT_NE(md.find("Hertzian"), std::string::npos) << md;
     EXPECT_NE(md.find("does not tell Hertz's force law from a linear one"), std::string::npos) << md;

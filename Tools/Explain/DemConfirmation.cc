@@ -190,6 +190,9 @@ Json demJson(const DemResult& d) {
                 j.set("control_note", d.controlNote);
             }
             if (std::isfinite(d.labExponent)) j.set("recording_unload_stiffness_exponent", d.labExponent);
+            j.set("heldout_judge", "reload_from_its_start");
+            j.set("heldout_rmse_u_scale_baseline", num(d.heldoutUScaleBaseline));
+            j.set("heldout_rmse_u_scale_augmented", num(d.heldoutUScaleAugmented));
         }
         if (wall) {
             j.set("mould_diameter_m", d.mouldDiameter);
@@ -238,6 +241,7 @@ Json demJson(const DemResult& d) {
         o.set("calibration_rmse_Pa", num(r.calibrationRmse));
         o.set("heldout_rmse_Pa", num(r.heldoutRmse));
         if (r.heldoutBottomRmse >= 0) o.set("heldout_bottom_rmse_Pa", r.heldoutBottomRmse);
+        if (hertz) o.set("heldout_rmse_u_scale_Pa", num(r.heldoutUScaleRmse));
         o.set("command", r.command);
         runs.push(o);
     }
@@ -300,11 +304,16 @@ std::string demMarkdown(const DemResult& d) {
         os << scaled << "; the non-cohesive frictional material), once with linear elastic contacts and with Hertzian ones, "
            << formatted("whose stiffness falls with the force: E* = %.4g Pa (of %zu values), calibrated on %d unload branch(es) "
                         "to the recording's unloading curvature (tangent at the top over the secant to %.0f %% of the start "
-                        "stress: recording %.3g, Hertzian DEM %.3g, linear DEM %.3g). %sthe %d reload branch(es) the "
-                        "calibration did not see",
+                        "stress: recording %.3g, Hertzian DEM %.3g, linear DEM %.3g). On the %d reload branch(es) the "
+                        "calibration did not see, each followed from its own first sample (where the unload ended: how the "
+                        "reload climbs, not where in strain another bed's unload ended), in units of the branch's start stress "
+                        "and loading stiffness,",
                         a.hertzModulus, d.runs.size() - (d.control >= 0 ? 2 : 1), d.calibrationHolds, 100 * d.ratioYMin, d.labMacro, a.macro,
-                        d.runs.front().macro, units, d.heldoutHolds);
+                        d.runs.front().macro, d.heldoutHolds);
         without = "linear contacts", with = "Hertzian ones";
+        if (d.heldoutUScaleBaseline >= 0 && d.heldoutUScaleAugmented >= 0)
+            extra = formatted(" (placed on the u scale instead, without following the reload from its start: %.4g Pa and %.4g Pa)",
+                              d.heldoutUScaleBaseline, d.heldoutUScaleAugmented);
     } else if (d.mechanism == "wall_friction" && d.calibration == "bottom_over_piston_secant") {
         const std::string atMould = d.transmissionTarget > 0 && std::abs(d.transmissionTarget - d.labTransmission) > 1e-9 * d.labTransmission
                                         ? formatted(", %.3g at the mould's H/D", d.transmissionTarget)

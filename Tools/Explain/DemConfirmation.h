@@ -50,7 +50,10 @@
 // the linear one at the mean contact force of the top stress, the bed's unloading measured like
 // the linear bed's); the secant on the curvature against ln E* aimed at the recording's; a third
 // secant step when neither is within 10 % of the recording's excess over the linear bed. The run with
-// the smallest calibration error is scored. A recording whose unloading is not more curved than the
+// the smallest calibration error is scored, on each held-out reload followed from its own first sample
+// (BranchJudge::StressFromStart, since 2026-12-07: the confirmation's bed is not the record's, and on
+// the u scale the strain another bed's unload recovers offsets the whole reload; the u-scale errors
+// are reported beside). A recording whose unloading is not more curved than the
 // linear bed's (by kCurvatureMargin) makes the status "contradicted". A last, control run has linear
 // contacts whose normal stiffness is the chosen Hertzian run's secant stiffness at the mean contact
 // force of the top stress (--normal_stiffness_scale): the unloading curvature comes from contacts that
@@ -209,6 +212,9 @@ struct DemRun {
     double transmission = -1;
     double calibrationRmse = -1, heldoutRmse = -1;  ///< Pa
     double heldoutBottomRmse = -1;  ///< wall_friction with a bottom sensor: the held-out branches' bottom stress (Pa)
+    /// stiffness_nonlinearity, whose held-out error judges each reload from its own start
+    /// (BranchJudge::StressFromStart): the error on the u scale as well (BranchJudge::Stress, Pa), reported only
+    double heldoutUScaleRmse = -1;
     /// contact_relaxation: mean fitted C of the DEM calibration holds; rate_dependence: their mean stress
     /// drop (a fraction of the stress at the stop, over the last third of each hold); plasticity, wall_friction:
     /// unloading stiffness ratio measured on the DEM calibration branches; stiffness_nonlinearity: their
@@ -264,6 +270,9 @@ struct DemResult {
     /// wall_friction with a bottom sensor: the held-out branches' bottom stress (Pa), the second
     /// channel of the same held-out part (-1: not recorded)
     double heldoutBottomBaseline = -1, heldoutBottomAugmented = -1;
+    /// stiffness_nonlinearity: the held-out errors on the u scale (BranchJudge::Stress), beside the judged
+    /// ones from each reload's start (-1: not measured)
+    double heldoutUScaleBaseline = -1, heldoutUScaleAugmented = -1;
     double wallSeconds = 0;
 };
 

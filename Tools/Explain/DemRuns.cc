@@ -174,23 +174,31 @@ double branchAt(const std::vector<std::pair<double, double>>& uy, double u) {
     return u1 > u0 ? y0 + (y1 - y0) * (u - u0) / (u1 - u0) : y1;
 }
 
-std::vector<double> branchPredict(const std::vector<Branch>& lab, const std::vector<Branch>& dem, std::size_t k, bool bottom) {
+std::vector<double> branchPredict(const std::vector<Branch>& lab, const std::vector<Branch>& dem, std::size_t k, BranchJudge judge) {
+    const bool bottom = judge == BranchJudge::BottomStress;
     if (bottom && (dem[k].b.size() != dem[k].u.size() || lab[k].b.size() != lab[k].u.size())) return {};
     std::vector<std::pair<double, double>> uy;
     for (std::size_t i = 0; i < dem[k].u.size(); ++i) uy.emplace_back(dem[k].u[i], bottom ? dem[k].b[i] / dem[k].sRef : dem[k].y[i]);
     std::sort(uy.begin(), uy.end());
     std::vector<double> out;
+    if (judge == BranchJudge::StressFromStart) {
+        if (lab[k].u.empty() || dem[k].u.empty()) return {};
+        const double uLab0 = lab[k].u.front(), uDem0 = dem[k].u.front(), yDem0 = branchAt(uy, uDem0);
+        for (double u : lab[k].u) out.push_back(lab[k].s.front() + lab[k].sRef * (branchAt(uy, uDem0 + (u - uLab0)) - yDem0));
+        return out;
+    }
     for (double u : lab[k].u) out.push_back(lab[k].sRef * branchAt(uy, u));
     return out;
 }
 
 double branchRmse(const std::vector<Branch>& lab, const std::vector<Branch>& dem, const std::vector<std::size_t>& which,
-                  bool bottom) {
+                  BranchJudge judge) {
+    const bool bottom = judge == BranchJudge::BottomStress;
     double ss = 0;
     std::size_t n = 0;
     for (std::size_t k : which) {
         if (k >= dem.size()) return -1;
-        const std::vector<double> pred = branchPredict(lab, dem, k, bottom);
+        const std::vector<double> pred = branchPredict(lab, dem, k, judge);
         if (pred.size() != lab[k].u.size()) return -1;
         for (std::size_t i = 0; i < pred.size(); ++i) {
             const double err = (bottom ? lab[k].b[i] : lab[k].s[i]) - pred[i];

@@ -79,14 +79,25 @@ bool samePhases(const std::vector<Branch>& lab, const std::vector<Branch>& dem);
 /// The branch as a function y(u): samples sorted by u (linear interpolation, constant outside).
 double branchAt(const std::vector<std::pair<double, double>>& uy, double u);
 
-/// DEM predictions of every sample of lab branch k: s_pred = s_ref,lab * y_DEM(u_lab); with `bottom`,
-/// of its bottom stress: b_pred = s_ref,lab * (b / s_ref)_DEM(u_lab) (empty when a record lacks it).
-std::vector<double> branchPredict(const std::vector<Branch>& lab, const std::vector<Branch>& dem, std::size_t k, bool bottom = false);
+/// What a DEM branch predicts of a lab branch.
+enum class BranchJudge {
+    Stress,        ///< s_pred = s_ref,lab * y_DEM(u_lab): the branch where it lies on the u scale
+    BottomStress,  ///< b_pred = s_ref,lab * (b / s_ref)_DEM(u_lab): the bottom sensor's stress
+    /// the branch's shape from its own first sample: s_pred = s_lab,0 + s_ref,lab * (y_DEM(u_DEM,0 + u_lab
+    /// - u_lab,0) - y_DEM(u_DEM,0)). A reload begins where its unload ended (a calibration sample), so
+    /// this judges how the reload climbs, not where in strain the unload of another bed ended.
+    StressFromStart,
+};
 
-/// RMSE (Pa) of the DEM branches predicting the lab branches with index in `which` (with `bottom`:
+/// DEM predictions of every sample of lab branch k by `judge` (BottomStress: empty when a record
+/// lacks the bottom stress).
+std::vector<double> branchPredict(const std::vector<Branch>& lab, const std::vector<Branch>& dem, std::size_t k,
+                                  BranchJudge judge = BranchJudge::Stress);
+
+/// RMSE (Pa) of the DEM branches predicting the lab branches with index in `which` (BottomStress:
 /// their bottom stress; -1 when a record lacks it).
 double branchRmse(const std::vector<Branch>& lab, const std::vector<Branch>& dem, const std::vector<std::size_t>& which,
-                  bool bottom = false);
+                  BranchJudge judge = BranchJudge::Stress);
 
 /// Unloading stiffness over loading tangent measured on the unload branches in `which`: the slope
 /// lambda of 1 - y = lambda u through the origin over the samples with y >= yMin (plasticity: 0.2,

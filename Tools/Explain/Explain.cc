@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -729,12 +730,11 @@ void locateMismatch(const FinalState& s, const std::vector<double>& r0, ExplainR
 /// term acts in (plus the per-hold fits of a relaxation, the tension a cohesion reaches and the muK the
 /// bottom sensor gives a wall friction).
 std::vector<MechanismResult> mechanismResults(const FinalState& s, const std::vector<double>& inclusion,
-                                              const BottomSensor& bottom) {
+                                              const BottomSensor& bottom, const HoldFitSummary* holdFits) {
     const Recording& rec = s.rec;
     const Protocol& proto = s.proto;
     const Model& M = s.M;
     const Fitter& F = s.F;
-    const NoiseModel& nm = s.nm;
     const double nLik = s.nLik;
     const auto& recPhases = s.recPhases;
     const auto& nuis = s.nuis;
@@ -834,7 +834,7 @@ std::vector<MechanismResult> mechanismResults(const FinalState& s, const std::ve
                     m.actsIn.push_back(w);
                 }
         }
-        if (c == kRelaxation) m.perHold = fitHolds(rec, nm.rho, 20, creepSamples(rec, proto));
+        if (c == kRelaxation && holdFits) m.perHold = *holdFits;
         if (c == kCohesion) {  // the tension the model reaches in the record, against the sensor's zero
             std::vector<char> onBare = on;
             onBare[kDrift] = 0;
@@ -1048,7 +1048,7 @@ void addBackNuisances(Selection& s, ExplainResult& R) {
 /// has one t0 for all holds, and C and t0 trade off over a hold.) (Without the last two checks a flexible C took up
 /// out-of-library effects: a sinusoidal artefact was "explained" by beta = 1.3 or at the bound -2.)
 /// Returns true when accepted (the selection's model then carries beta).
-bool testRelaxStress(Selection& s, ExplainResult& R, const std::vector<int>& foldOf, const Recording& rec, const Protocol& proto) {
+bool testRelaxStress(Selection& s, ExplainResult& R, const std::vector<int>& foldOf, const HoldFitSummary& ph) {
     RelaxStressTest& T = R.relaxStress;
     const ModelInput& in = s.M.input();
     T.stressRef = in.holdStressRef;
@@ -1080,7 +1080,6 @@ bool testRelaxStress(Selection& s, ExplainResult& R, const std::vector<int>& fol
     T.dBIC = s.bicOf(s.cur, s.on) - s.bicOf(f, on2);
     T.heldoutBase = heldoutRmse(s.F, s.on, s.cur.p, s.opt.folds, foldOf);
     T.heldoutAug = heldoutRmse(s.F, on2, f.p, s.opt.folds, foldOf);
-    const HoldFitSummary ph = fitHolds(rec, s.nm.rho, 20, creepSamples(rec, proto));
     T.holdsBeta = ph.beta;
     T.holdsBetaSe = ph.betaSe;
     const ParDef& d = s.M.defs()[pRelaxBeta];
@@ -1424,7 +1423,13 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     if (!accepted.empty() && !opt.forceBest) addBackNuisances(sel, R);
     // refinement: a stress-dependent C; when it is accepted, the mechanisms that only stood in for it
     // (a viscous offset taking part of the later holds' drop, say) are checked again
-    if (on[kRelaxation] && !on[kRelaxStress] && !opt.forceBest && testRelaxStress(sel, R, foldOf, rec, proto)) {
+    // the holds fitted one by one (C and t0 of each), made once and only where relaxation is in the model
+    std::optional<HoldFitSummary> holdFits;
+    const auto holdFitsOf = [&]() -> const HoldFitSummary& {
+        if (!holdFits) holdFits = fitHolds(rec, nm.rho, 20, M.input().creep);
+        return *holdFits;
+    };
+    if (on[kRelaxation] && !on[kRelaxStress] && !opt.forceBest && testRelaxStress(sel, R, foldOf, holdFitsOf())) {
         if (accepted.size() > 1) dropRedundantMechanisms(sel, R);
         if (!on[kRelaxation]) {  // the relaxation itself went: its refinement goes with it
             on[kRelaxStress] = 0;
@@ -1458,7 +1463,8 @@ ExplainResult explain(const Recording& rec, const Protocol& proto, const Explain
     R.heldoutBaseline = heldoutRmse(F, R.onBaseline, R.pBaseline, opt.folds, foldOf);
     R.heldoutAugmented = accepted.empty() ? R.heldoutBaseline : heldoutRmse(F, on, cur.p, opt.folds, foldOf);
 
-    R.mechanisms = mechanismResults(fs, inclusion, R.bottom);
+    const bool relaxationReported = std::find(accepted.begin(), accepted.end(), int(kRelaxation)) != accepted.end();
+    R.mechanisms = mechanismResults(fs, inclusion, R.bottom, relaxationReported ? &holdFitsOf() : nullptr);
 
     // ---- 7. verdict ----
     decideVerdict(R, accepted, ambiguous, nm);
