@@ -1821,6 +1821,23 @@ TEST(ExplainDemBranches, ReloadJudgedFromItsStartSeesTheShapeNotTheOffset) {
         << "begun at the lab's u, the two judges agree";
 }
 
+// The control run's judgement of the contact law, either way: by the misses of an exponent (margin)
+// and by the held-out reload errors (ratio), with the numbers of the DEM-made records of 2026-12-07
+// (a Hertzian record: 174 Pa Hertzian, 2730 Pa control; a record of linear contacts as soft: 2524 and
+// 201 Pa).
+TEST(ExplainDemBranches, ContactLawJudgedEitherWay) {
+    EXPECT_EQ(favouredLawByRatio(174, 2730, kReloadLawRatio), ContactLaw::Hertz);
+    EXPECT_EQ(favouredLawByRatio(2524, 201, kReloadLawRatio), ContactLaw::LinearAsSoft);
+    EXPECT_EQ(favouredLawByRatio(400, 700, kReloadLawRatio), ContactLaw::NotTold);
+    EXPECT_EQ(favouredLawByRatio(400, 800, 2), ContactLaw::Hertz) << "the factor itself counts";
+    EXPECT_EQ(favouredLawByMiss(0.03, 0.25, kExponentMargin), ContactLaw::Hertz);
+    EXPECT_EQ(favouredLawByMiss(0.25, 0.03, kExponentMargin), ContactLaw::LinearAsSoft);
+    EXPECT_EQ(favouredLawByMiss(0.05, 0.1, kExponentMargin), ContactLaw::NotTold);
+    EXPECT_STREQ(contactLawName(ContactLaw::Hertz), "hertz");
+    EXPECT_STREQ(contactLawName(ContactLaw::LinearAsSoft), "linear_as_soft");
+    EXPECT_STREQ(contactLawName(ContactLaw::NotTold), "not_told");
+}
+
 namespace {
 /// Two cycles: load at stiffness E to s1, unload along s = s_top (1 - (e_top - e)/x_h)^m (top tangent
 /// T1, down to 5 % of s1), reload the same way, load on to s2, the same unload with top tangent
@@ -1890,6 +1907,7 @@ BEGIN {
         EXPECT_EQ(d.calibrationHolds, 2);
         ASSERT_EQ(d.control, static_cast<int>(d.runs.size()) - 1);
         EXPECT_TRUE(d.judgedByExponent);
+        EXPECT_EQ(d.lawJudge, "unload_stiffness_exponent");
         EXPECT_NEAR(d.labExponent, 0.58, 1e-9);
         EXPECT_NEAR(d.runs[static_cast<std::size_t>(d.chosen)].exponent, 0.6, 1e-9);
         EXPECT_NEAR(d.runs.front().exponent, 0.4, 1e-9);
@@ -1979,6 +1997,9 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     EXPECT_NEAR(ctl.normalStiffnessScale, std::pow(c.hertzModulus / eMatch, 2.0 / 3.0), 1e-9);
     EXPECT_NEAR(ctl.macro, c.macro, 0.02) << "as curved as the chosen Hertzian run";
     EXPECT_FALSE(d.contactLawDistinguished);
+    EXPECT_EQ(d.lawJudge, "reload_from_its_start") << "one unload level: the held-out reload from its start judges the law";
+    EXPECT_EQ(d.contactLaw, ContactLaw::NotTold);
+    EXPECT_NEAR(ctl.heldoutRmse, c.heldoutRmse, 0.01 * c.heldoutRmse) << "the stand-in's control unloads and reloads as the chosen run";
     EXPECT_NE(calls.find(" " + fmt(ctl.normalStiffnessScale) + "\n"), std::string::npos) << calls;
     const Json j = demJson(d);
     EXPECT_EQ(j.at("calibration").asString(), "unload_curvature_secant");
@@ -1987,6 +2008,8 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     EXPECT_NEAR(j.at("runs").asArray("runs")[1].at("hertz_modulus_Pa").asNumber(), eMatch / 10, 1e-6 * eMatch);
     EXPECT_EQ(j.at("control_run").asString(), "dem_linear_control");
     EXPECT_FALSE(j.at("contact_law_distinguished").asBool());
+    EXPECT_EQ(j.at("contact_law_judged_by").asString(), "reload_from_its_start");
+    EXPECT_EQ(j.at("contact_law_favoured").asString(), "not_told");
     // the reloads judged from their start; the u-scale errors reported beside them
     EXPECT_EQ(j.at("heldout_judge").asString(), "reload_from_its_start");
     EXPECT_NEAR(j.at("heldout_rmse_u_scale_baseline").asNumber(), d.heldoutUScaleBaseline, 1e-9);
@@ -2006,7 +2029,11 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     ASSERT_GE(law.control, 0);
     EXPECT_NEAR(law.runs[static_cast<std::size_t>(law.control)].macro, 1.0, 0.01);
     EXPECT_TRUE(law.contactLawDistinguished);
+    EXPECT_EQ(law.lawJudge, "reload_from_its_start");
+    EXPECT_GE(law.runs[static_cast<std::size_t>(law.control)].heldoutRmse,
+              kReloadLawRatio * law.runs[static_cast<std::size_t>(law.chosen)].heldoutRmse);
     EXPECT_NE(demMarkdown(law).find("needs the Hertzian force law"), std::string::npos);
+    EXPECT_NE(demMarkdown(law).find("followed from its start, the held-out reload is missed by"), std::string::npos);
     const std::string cmp = readWholeFile(dir + "/dem/comparison.csv");
     EXPECT_EQ(cmp.substr(0, cmp.find(',', cmp.find("lab_stress_Pa"))), "item,role,axial_strain,lab_stress_Pa");
 

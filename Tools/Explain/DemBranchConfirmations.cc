@@ -511,15 +511,25 @@ DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, co
         d.control = static_cast<int>(all.size() - 1);
         score(all.size() - 1);
         // the judge: the unloading stiffness's pressure exponent where the recording unloads from two
-        // stress levels, else the curvature (which hardly tells the law)
+        // stress levels; else the held-out reload followed from its start (where Hertzian contacts,
+        // soft at small forces, and linear ones as soft at the top differ most); the curvature (which
+        // hardly tells the law) only where a reload error is missing
         const double labExponent = unloadStiffnessExponent(lab);
         for (std::size_t q = 0; q < all.size(); ++q) d.runs[q].exponent = unloadStiffnessExponent(all[q]);
         d.judgedByExponent = std::isfinite(labExponent) && std::isfinite(d.runs[chosen].exponent) && std::isfinite(d.runs.back().exponent);
         if (std::isfinite(labExponent)) d.labExponent = labExponent;
-        d.contactLawDistinguished =
-            d.judgedByExponent
-                ? std::abs(d.runs.back().exponent - labExponent) > std::abs(d.runs[chosen].exponent - labExponent) + kExponentMargin
-                : std::abs(curv.back() - d.labMacro) > std::abs(curv[chosen] - d.labMacro) + kCurvatureMargin;
+        const DemRun &hz = d.runs[chosen], &ctl = d.runs.back();
+        if (d.judgedByExponent) {
+            d.lawJudge = "unload_stiffness_exponent";
+            d.contactLaw = favouredLawByMiss(std::abs(hz.exponent - labExponent), std::abs(ctl.exponent - labExponent), kExponentMargin);
+        } else if (hz.heldoutRmse > 0 && ctl.heldoutRmse > 0) {
+            d.lawJudge = "reload_from_its_start";
+            d.contactLaw = favouredLawByRatio(hz.heldoutRmse, ctl.heldoutRmse, kReloadLawRatio);
+        } else {
+            d.lawJudge = "unload_curvature";
+            d.contactLaw = favouredLawByMiss(std::abs(curv[chosen] - d.labMacro), std::abs(curv.back() - d.labMacro), kCurvatureMargin);
+        }
+        d.contactLawDistinguished = d.contactLaw == ContactLaw::Hertz;
     } else {  // the control only qualifies the result: without it the law is not judged
         d.controlNote = "the control run dem_linear_control failed or does not pair with the recording (log: dem_linear_control.log)";
         d.runs.pop_back();
@@ -555,6 +565,27 @@ double hertzSecantStiffness(double modulus, double d, double stress) {
     const double f = meanContactForce(d, stress);
     const double delta = std::cbrt(std::pow(3 * f / (4 * modulus * std::sqrt(0.25 * d)), 2));  // f = (4/3) E* sqrt(R) delta^(3/2)
     return f / delta;
+}
+
+const char* contactLawName(ContactLaw law) {
+    switch (law) {
+    case ContactLaw::Hertz: return "hertz";
+    case ContactLaw::LinearAsSoft: return "linear_as_soft";
+    case ContactLaw::NotTold: break;
+    }
+    return "not_told";
+}
+
+ContactLaw favouredLawByMiss(double hertzMiss, double controlMiss, double margin) {
+    if (controlMiss > hertzMiss + margin) return ContactLaw::Hertz;
+    if (hertzMiss > controlMiss + margin) return ContactLaw::LinearAsSoft;
+    return ContactLaw::NotTold;
+}
+
+ContactLaw favouredLawByRatio(double hertzError, double controlError, double ratio) {
+    if (controlError >= ratio * hertzError) return ContactLaw::Hertz;
+    if (hertzError >= ratio * controlError) return ContactLaw::LinearAsSoft;
+    return ContactLaw::NotTold;
 }
 
 } // namespace pdpm::explain

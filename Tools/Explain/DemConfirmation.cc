@@ -185,7 +185,8 @@ Json demJson(const DemResult& d) {
             if (d.control >= 0) {
                 j.set("control_run", d.runs[static_cast<std::size_t>(d.control)].name);
                 j.set("contact_law_distinguished", d.contactLawDistinguished);
-                j.set("contact_law_judged_by", d.judgedByExponent ? "unload_stiffness_exponent" : "unload_curvature");
+                j.set("contact_law_judged_by", d.lawJudge);
+                j.set("contact_law_favoured", contactLawName(d.contactLaw));
             } else if (!d.controlNote.empty()) {
                 j.set("control_note", d.controlNote);
             }
@@ -376,11 +377,18 @@ std::string demMarkdown(const DemResult& d) {
             os << formatted("; the unloading stiffness grows with the stress it unloads from as stress^%.2f in the recording, "
                             "^%.2f with the Hertzian contacts and ^%.2f with the linear control",
                             d.labExponent, d.runs[static_cast<std::size_t>(d.chosen)].exponent, c.exponent);
+        else if (d.lawJudge == "reload_from_its_start")
+            os << formatted("; followed from its start, the held-out reload is missed by %.4g Pa with the control and %.4g Pa with "
+                            "the Hertzian contacts",
+                            c.heldoutRmse, d.runs[static_cast<std::size_t>(d.chosen)].heldoutRmse);
         os << ": ";
-        if (d.contactLawDistinguished)
-            os << (byExponent ? "the control is clearly further from the recording, so the record needs the Hertzian force law."
-                              : "clearly further from the recording's, so the curvature needs the Hertzian force law.");
-        else if (byExponent)
+        if (d.contactLaw == ContactLaw::Hertz)
+            os << (d.lawJudge == "unload_curvature" ? "clearly further from the recording's, so the curvature needs the Hertzian force law."
+                                                    : "the control is clearly further from the recording, so the record needs the Hertzian force law.");
+        else if (d.contactLaw == ContactLaw::LinearAsSoft)
+            os << "the control is clearly closer to the recording: the record shows linear contacts that soft, not Hertz's force "
+                  "law (the curvature is the contacts' softness under the load).";
+        else if (d.lawJudge != "unload_curvature")
             os << "the control is about as close to the recording, so the record does not tell Hertz's force law from a linear "
                   "one that soft (the bulk nonlinearity is confirmed, the contact law is not).";
         else

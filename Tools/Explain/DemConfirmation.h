@@ -63,8 +63,11 @@
 // from two stress levels at least kExponentStressRatio apart: Hertzian contacts stiffen with the force,
 // linear ones only through new contacts (measured: records 0.55-0.62, Hertzian runs 0.57-0.60, control
 // 0.33-0.38); the law counts as distinguished where the control misses the recording's exponent by
-// kExponentMargin more than the chosen run does. With one unload level the curvature with
-// kCurvatureMargin judges the same way. A failed control leaves the result and skips the judgement.
+// kExponentMargin more than the chosen run does (and as favouring linear contacts that soft where the
+// chosen run misses it by that much more). With one unload level, since 2026-12-07, the held-out reload
+// followed from its start judges: a factor kReloadLawRatio between the two runs' errors either way
+// (the curvature with kCurvatureMargin before, which practically never told; it still judges where a
+// reload error is missing). A failed control leaves the result and skips the judgement.
 //
 // And for cohesion (since 2026-12-05; driver flags --kc_over_k and --wall_kc_over_k with one value, Luding's law
 // with the material's plasticity, relaxation off in every run): only where the protocol pulls on the bed
@@ -158,6 +161,24 @@ inline constexpr double kCurvatureLowY = 0.2, kCurvatureMaxLowY = 0.6;
 /// stresses differ by at least this factor; the control run tells the law apart where its exponent
 /// misses the recording's by kExponentMargin more than the chosen Hertzian run's.
 inline constexpr double kExponentStressRatio = 2, kExponentMargin = 0.1;
+/// stiffness_nonlinearity with one unload level: the held-out reload, followed from its start, tells
+/// the law where one of the chosen Hertzian run and the control misses it by at least this factor more
+/// than the other (measured 2026-12-07: on Hertzian records the control 3.5-28 times the Hertzian run,
+/// on records of linear contacts as soft 0.08-0.22 times; Documentation/tools-explain.md).
+inline constexpr double kReloadLawRatio = 2;
+/// stiffness_nonlinearity: which contacts the control run's judgement favours.
+enum class ContactLaw {
+    NotTold,       ///< the chosen Hertzian run and the linear control are about as close to the recording
+    Hertz,         ///< the control is clearly further: the record needs Hertz's force law
+    LinearAsSoft,  ///< the control is clearly closer: linear contacts that soft, not Hertz's law
+};
+const char* contactLawName(ContactLaw law);
+/// The judgement from the two runs' misses of the recording's exponent or curvature: Hertz where the
+/// control misses by more than `margin` beyond the Hertzian run, LinearAsSoft the other way round.
+ContactLaw favouredLawByMiss(double hertzMiss, double controlMiss, double margin);
+/// The judgement from the two runs' held-out errors: Hertz where the control's is at least `ratio`
+/// times the Hertzian run's, LinearAsSoft the other way round.
+ContactLaw favouredLawByRatio(double hertzError, double controlError, double ratio);
 /// stiffness_nonlinearity, fast mode: a laterally periodic bed of about 940 particles (the driver's
 /// default 180-particle bed is dominated by collapses).
 inline constexpr const char* kNonlinearityFastBed = "--width 10 --fill_height 10";
@@ -236,7 +257,10 @@ struct DemResult {
     /// the chosen run does (by the unloading stiffness exponent, else the curvature; if not, the record
     /// tells the contacts' softness under the load, not their force law)
     int control = -1;
-    bool contactLawDistinguished = false;
+    bool contactLawDistinguished = false;  ///< contactLaw == Hertz
+    ContactLaw contactLaw = ContactLaw::NotTold;
+    /// unload_stiffness_exponent | reload_from_its_start | unload_curvature (empty: not judged)
+    std::string lawJudge;
     /// stiffness_nonlinearity: whether the pressure exponent of the unloading stiffness judged the control
     /// (the recording's, the chosen run's and the control's all measured), else the curvature did
     bool judgedByExponent = false;
