@@ -1912,7 +1912,7 @@ BEGIN {
         EXPECT_NEAR(d.runs[static_cast<std::size_t>(d.chosen)].exponent, 0.6, 1e-9);
         EXPECT_NEAR(d.runs.front().exponent, 0.4, 1e-9);
         EXPECT_NEAR(d.runs.back().exponent, xControl, 1e-9);
-        EXPECT_EQ(d.contactLawDistinguished, xControl < 0.5) << name;
+        EXPECT_EQ(d.contactLawDistinguished(), xControl < 0.5) << name;
         const Json j = demJson(d);
         EXPECT_EQ(j.at("contact_law_judged_by").asString(), "unload_stiffness_exponent");
         EXPECT_NEAR(j.at("recording_unload_stiffness_exponent").asNumber(), 0.58, 1e-9);
@@ -1996,7 +1996,7 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     EXPECT_EQ(ctl.hertzModulus, 0.0);
     EXPECT_NEAR(ctl.normalStiffnessScale, std::pow(c.hertzModulus / eMatch, 2.0 / 3.0), 1e-9);
     EXPECT_NEAR(ctl.macro, c.macro, 0.02) << "as curved as the chosen Hertzian run";
-    EXPECT_FALSE(d.contactLawDistinguished);
+    EXPECT_FALSE(d.contactLawDistinguished());
     EXPECT_EQ(d.lawJudge, "reload_from_its_start") << "one unload level: the held-out reload from its start judges the law";
     EXPECT_EQ(d.contactLaw, ContactLaw::NotTold);
     EXPECT_NEAR(ctl.heldoutRmse, c.heldoutRmse, 0.01 * c.heldoutRmse) << "the stand-in's control unloads and reloads as the chosen run";
@@ -2028,7 +2028,7 @@ awk -v h="$v_hertz_modulus" -v ns="$v_normal_stiffness_scale" -v sc="$v_stress_s
     ASSERT_EQ(law.status, "done") << law.reason;
     ASSERT_GE(law.control, 0);
     EXPECT_NEAR(law.runs[static_cast<std::size_t>(law.control)].macro, 1.0, 0.01);
-    EXPECT_TRUE(law.contactLawDistinguished);
+    EXPECT_TRUE(law.contactLawDistinguished());
     EXPECT_EQ(law.lawJudge, "reload_from_its_start");
     EXPECT_GE(law.runs[static_cast<std::size_t>(law.control)].heldoutRmse,
               kReloadLawRatio * law.runs[static_cast<std::size_t>(law.chosen)].heldoutRmse);

@@ -529,7 +529,6 @@ DemResult confirmNonlinearity(DemContext& ctx, const MechanismResult& nonlin, co
             d.lawJudge = "unload_curvature";
             d.contactLaw = favouredLawByMiss(std::abs(curv[chosen] - d.labMacro), std::abs(curv.back() - d.labMacro), kCurvatureMargin);
         }
-        d.contactLawDistinguished = d.contactLaw == ContactLaw::Hertz;
     } else {  // the control only qualifies the result: without it the law is not judged
         d.controlNote = "the control run dem_linear_control failed or does not pair with the recording (log: dem_linear_control.log)";
         d.runs.pop_back();

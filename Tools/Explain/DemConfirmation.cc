@@ -184,7 +184,7 @@ Json demJson(const DemResult& d) {
             j.set("surrogate_exponent_n", num(d.surrogateValue));
             if (d.control >= 0) {
                 j.set("control_run", d.runs[static_cast<std::size_t>(d.control)].name);
-                j.set("contact_law_distinguished", d.contactLawDistinguished);
+                j.set("contact_law_distinguished", d.contactLawDistinguished());
                 j.set("contact_law_judged_by", d.lawJudge);
                 j.set("contact_law_favoured", contactLawName(d.contactLaw));
             } else if (!d.controlNote.empty()) {

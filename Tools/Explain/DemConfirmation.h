@@ -253,12 +253,13 @@ struct DemResult {
     std::vector<DemRun> runs;
     int chosen = -1;  ///< index of the scored augmented run
     /// stiffness_nonlinearity: index of the control run (linear contacts as soft as the chosen
-    /// Hertzian ones at the top stress; -1: none), and whether it misses the recording clearly more than
-    /// the chosen run does (by the unloading stiffness exponent, else the curvature; if not, the record
-    /// tells the contacts' softness under the load, not their force law)
+    /// Hertzian ones at the top stress; -1: none), and which law its judgement favours (lawJudge: by the
+    /// unloading stiffness exponent, else the reload from its start, else the curvature); Hertz where
+    /// the control misses the recording clearly more than the chosen run does
     int control = -1;
-    bool contactLawDistinguished = false;  ///< contactLaw == Hertz
     ContactLaw contactLaw = ContactLaw::NotTold;
+    /// whether the control run told Hertz's law apart (contactLaw == Hertz; report.json contact_law_distinguished)
+    bool contactLawDistinguished() const { return contactLaw == ContactLaw::Hertz; }
     /// unload_stiffness_exponent | reload_from_its_start | unload_curvature (empty: not judged)
     std::string lawJudge;
     /// stiffness_nonlinearity: whether the pressure exponent of the unloading stiffness judged the control
