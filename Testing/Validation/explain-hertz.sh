@@ -16,6 +16,11 @@
 # chosen Hertzian ones) or does not favour Hertz's law over that control (gated since session 43;
 # reported before), if a soft linear record's confirmation favours Hertz's law, or if a linear twin
 # that the surrogate answers with stiffness_nonlinearity is not "contradicted" by the DEM.
+# HERTZ_NOISE_PA=SD (since session 44) adds AR(1) noise (lag-1 coefficient 0.5, marginal sd SD Pa,
+# seeded by the record's seed) to the axial, bottom and lateral stress of every record, quantised to
+# 1 Pa, before pdpm-explain reads it; the gates then ask less: a Hertz record's confirmation may be
+# "inconclusive" (its curvature within two noise spreads of the linear bed's) but never "contradicted",
+# and when done it must not favour linear contacts; a soft record's must not favour Hertz's law.
 # Since session 43 the held-out reloads are followed from their own first sample (the confirmation's
 # bed is not the record's; on the u scale the strain another bed's unload recovers offsets the whole
 # reload, which made this gate fail on seeds 777 and 780 in session 42): the error falls by 60-94 % on
@@ -48,6 +53,28 @@ one() {  # seed modulus (0: linear contacts; soft: linear contacts k x 0.215) [2
   "$BIN/OedometerRelaxation" --protocol_file "$proto" --material frictional --width 10 --fill_height 10 --seed "$1" \
     --relax_C 0 --kc_over_k 0 --k_over_k1 1 ${hertz[@]+"${hertz[@]}"} --output "$OUT/records" --name "$name" --quiet --vtk 0 --ene 0 --threads 1 \
     > "$OUT/records-$name.log" 2>&1
+  if [ -n "${HERTZ_NOISE_PA:-}" ]; then
+    python3 - "$OUT/records/$name.recording.csv" "$HERTZ_NOISE_PA" "$1" <<'PY'
+import math, os, random, sys
+path, sd, seed = sys.argv[1], float(sys.argv[2]), int(sys.argv[3])
+rng, rho = random.Random(seed), 0.5
+lines = open(path).read().splitlines()
+head = [l for l in lines if l.startswith('#')]
+body = [l for l in lines if not l.startswith('#')]
+cols = body[0].split(',')
+idx = [cols.index(c) for c in ('axial_stress_Pa', 'bottom_stress_Pa', 'lateral_stress_Pa') if c in cols]
+ar = {i: rng.gauss(0, sd) for i in idx}
+out = head + [f'# noise added: AR(1) rho {rho}, sd {sd} Pa, quantised to 1 Pa, seed {seed}', body[0]]
+for row in body[1:]:
+    f = row.split(',')
+    for i in idx:
+        ar[i] = rho * ar[i] + math.sqrt(1 - rho * rho) * rng.gauss(0, sd)
+        f[i] = str(round(float(f[i]) + ar[i]))
+    out.append(','.join(f))
+open(path + '.tmp', 'w').write('\n'.join(out) + '\n')
+os.replace(path + '.tmp', path)
+PY
+  fi
   OMP_NUM_THREADS=1 "$BIN/pdpm-explain" --recording "$OUT/records/$name.recording.csv" --protocol "$OUT/records/$name.protocol.json" \
     --output "$OUT/$name" --dem fast --dem_threads 1 --dem_mechanism stiffness_nonlinearity --no_figures 1 > "$OUT/$name.log" 2>&1
 }
@@ -71,9 +98,10 @@ for p in "${pairs[@]}"; do
   set -- $p
   names+=("s$1_E$2${3:+_$3}")
 done
-python3 - "$OUT" "${names[@]}" <<'PY'
+python3 - "$OUT" "${HERTZ_NOISE_PA:-}" "${names[@]}" <<'PY'
 import json, sys
-out, bad = sys.argv[1], 0
+out, noisy, bad = sys.argv[1], sys.argv[2] != '', 0
+sys.argv[1:] = sys.argv[2:]
 for name in sys.argv[2:]:
     r = json.load(open(f"{out}/{name}/report.json"))
     soft = '_Esoft' in name
@@ -81,7 +109,10 @@ for name in sys.argv[2:]:
     names = [m['name'] for m in r['mechanisms']]
     line = f"{name}: {r['verdict']}: {names}"
     d = r['dem_confirmation']
-    if hertz:
+    if hertz and noisy and d['status'] != 'done':  # noise may leave the curvature open, never refute Hertz
+        bad += d['status'] != 'inconclusive'
+        line += f"; DEM: {d['status']} ({d.get('reason', '')[:160]})"
+    elif hertz:
         if d['status'] != 'done':
             bad += 1
             line += f"; DEM: {d['status']} ({d.get('reason', '')})"
@@ -102,11 +133,11 @@ for name in sys.argv[2:]:
                              f"{ch.get('dem_unload_stiffness_exponent', float('nan')):.3f}, control "
                              f"{ctl.get('dem_unload_stiffness_exponent', float('nan')):.3f}")
                 line += ")"
-                bad += d['contact_law_favoured'] != 'hertz'
+                bad += d['contact_law_favoured'] != 'hertz' if not noisy else d['contact_law_favoured'] == 'linear_as_soft'
             else:
                 bad += 1
                 line += "; no control run"
-            bad += not d['heldout_rmse_augmented'] < d['heldout_rmse_baseline']
+            bad += not noisy and not d['heldout_rmse_augmented'] < d['heldout_rmse_baseline']
     elif soft:  # linear contacts as soft as Hertzian ones at the top: curved, so the surrogate may name the
         # mechanism; the DEM must not favour Hertz's law (the control, linear contacts that soft, is the truth)
         line += f"; DEM: {d['status']}"
@@ -115,11 +146,11 @@ for name in sys.argv[2:]:
                      f"{d.get('contact_law_favoured')} (by {d.get('contact_law_judged_by')})")
             bad += d.get('contact_law_favoured') == 'hertz'
         elif 'stiffness_nonlinearity' in names:
-            bad += d['status'] != 'contradicted'
+            bad += d['status'] not in (('contradicted', 'inconclusive') if noisy else ('contradicted',))
             line += f" ({d.get('reason', '')[:90]})"
     else:  # the packing alone curves the loading, so the surrogate may name the mechanism; the DEM must refute it
         if 'stiffness_nonlinearity' in names:
-            bad += d['status'] != 'contradicted'
+            bad += d['status'] not in (('contradicted', 'inconclusive') if noisy else ('contradicted',))
             line += f"; DEM: {d['status']} ({d.get('reason', '')[:90]})"
         else:
             line += f"; DEM: {d['status']}"

@@ -121,6 +121,7 @@ DemResult confirmWithDem(const ExplainResult& r, const Recording& rec, const std
     DemContext ctx{opt, opt.driver.empty() ? defaultDemDriver() : opt.driver, workDir, std::chrono::steady_clock::now(), d};
     if (protoError.empty()) ctx.protocol = &proto;
     ctx.protocolError = protoError;
+    ctx.noise = r.noise;
     if (::access(ctx.driver.c_str(), X_OK) != 0) {
         d.status = "not_run";
         d.mechanism = compName(m->comp);
@@ -205,6 +206,7 @@ Json demJson(const DemResult& d) {
     if (hertz && d.labMacro > 0) {
         j.set("recording_unload_curvature_calibration_branches", d.labMacro);
         j.set("curvature_secant_to_y", d.ratioYMin);
+        if (d.labMacroSpread > 0) j.set("recording_unload_curvature_noise_sd", d.labMacroSpread);
     }
     if (d.labTransmission > 0) j.set("recording_bottom_over_piston_loading", d.labTransmission);
     if (d.transmissionTarget > 0) j.set("bottom_over_piston_target", d.transmissionTarget);

@@ -105,6 +105,20 @@ double branchRmse(const std::vector<Branch>& lab, const std::vector<Branch>& dem
 /// shear turns round). The same estimator on the lab and on the DEM record.
 double unloadRatio(const std::vector<Branch>& b, const std::vector<std::size_t>& which, double yMin);
 
+/// stiffness_nonlinearity: unloading curvature of the unload branches in `which` (DemConfirmation.h):
+/// the least-squares slope of y on u at the top over the secant from the top to where y first reaches
+/// yLow, averaged over the branches; -1 when no branch gives one. Both ends are found on a running
+/// mean of y over kCurvatureSmoothing samples, never on single samples: a window chosen by a noisy
+/// y keeps the samples whose noise lifts them (measured on DEM-made Hertz records with AR(1) noise
+/// of 2.5 % of the top stress: 1.33 read as 1.18 on average, 1.28 with the running mean).
+double unloadCurvature(const std::vector<Branch>& b, const std::vector<std::size_t>& which, double yLow);
+/// Standard deviation of unloadCurvature over `draws` replicas of the branches in `which`: each the
+/// branch's running mean plus noise drawn from `noise` (its AR(1) and white parts; the reference
+/// stress follows the replica's first sample, as cycleBranches takes it); 0 without noise. A fixed
+/// seed: the same record and noise model give the same value.
+double unloadCurvatureSpread(const std::vector<Branch>& b, const std::vector<std::size_t>& which, double yLow, const NoiseModel& noise,
+                             int draws = 200);
+
 /// A DEM run's record: its unload/reload branches and its loading transmission.
 struct DemRecord {
     std::vector<Branch> branches;
@@ -125,6 +139,8 @@ struct DemContext {
     /// the recording's protocol, read once (null when it could not be read: protocolError says why)
     const recording::Protocol* protocol = nullptr;
     std::string protocolError = "";
+    /// the explainer's noise model of the recording (stiffness_nonlinearity: the curvature's spread)
+    NoiseModel noise{};
 
     /// Runs the driver with the recording's protocol and `args`; false when it failed.
     bool run(DemRun run, const std::string& protocolPath, const std::string& args) {
