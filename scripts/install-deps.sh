@@ -5,8 +5,10 @@
 set -euo pipefail
 
 # python3 (standard library only) runs the validation and analysis scripts and one self-test; libvtk9-dev
-# pulls it in anyway, it is named so that nothing depends on that
-packages=(build-essential cmake libeigen3-dev libvtk9-dev libgtest-dev gnuplot-nox python3)
+# pulls it in anyway, it is named so that nothing depends on that; lld links the benchmark drivers with
+# their hot functions together (Documentation/performance.md, "Program text"; without it they link with
+# the default linker and use about 1 MB more memory)
+packages=(build-essential cmake libeigen3-dev libvtk9-dev libgtest-dev gnuplot-nox python3 lld)
 
 missing=()
 for p in "${packages[@]}"; do

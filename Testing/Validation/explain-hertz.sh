@@ -101,8 +101,7 @@ done
 python3 - "$OUT" "${HERTZ_NOISE_PA:-}" "${names[@]}" <<'PY'
 import json, sys
 out, noisy, bad = sys.argv[1], sys.argv[2] != '', 0
-sys.argv[1:] = sys.argv[2:]
-for name in sys.argv[2:]:
+for name in sys.argv[3:]:  # argv: OUT, HERTZ_NOISE_PA (may be empty), the case names
     r = json.load(open(f"{out}/{name}/report.json"))
     soft = '_Esoft' in name
     hertz = '_E0' not in name and not soft
