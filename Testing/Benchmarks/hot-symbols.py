@@ -2,6 +2,12 @@
 """Lists the functions a benchmark run executes, for the linker's symbol ordering file.
 
 Usage: hot-symbols.py BINARY CALLGRIND_OUT [CALLGRIND_OUT ...] > hot-symbols.txt
+       hot-symbols.py --check BINARY hot-symbols.txt
+
+--check (a fast test): fails when the list has gone stale for BINARY, i.e. when fewer than 90 % of
+the listed functions that come from the kernel (names with "pdpm") exist in BINARY, or when none of
+the names under which a step-loop function (STEP_LOOP below) exists in BINARY is listed. A stale
+list costs memory, never results; the message says how to regenerate it.
 
 Each CALLGRIND_OUT is a `valgrind --tool=callgrind --dump-instr=yes` profile of BINARY. Every
 function (text symbol of BINARY, mangled) with at least one executed instruction is printed once,
@@ -54,7 +60,38 @@ def executed(profile, syms, starts, cost):
             cost[syms[i][2]] += n
 
 
+# Functions every step of both decks runs: (substring of the mangled name).
+STEP_LOOP = ["DPMBase18integrateFirstHalf", "DPMBase19integrateSecondHalf", "DPMBase13computeForces",
+             "NeighbourList5build", "LinearBatch8evaluate"]
+
+
+def check(binary, listing):
+    listed = [l.strip() for l in open(listing) if l.strip()]
+    have = {s[2] for s in text_symbols(binary)}
+    ours = [n for n in listed if "pdpm" in n]
+    found = sum(1 for n in ours if n in have)
+    problems = []
+    if not ours or found < 0.9 * len(ours):
+        problems.append(f"only {found} of the {len(ours)} kernel functions it lists exist in {binary}")
+    listed_set = set(listed)
+    for key in STEP_LOOP:
+        names = sorted(n for n in have if key in n and ".cold" not in n)  # cold parts never run
+        if not names:
+            problems.append(f"no function named like {key} in {binary} (update STEP_LOOP in hot-symbols.py)")
+        if names and not any(n in listed_set for n in names):  # template variants may not all run
+            problems.append(f"none of {', '.join(names)} is listed")
+    if problems:
+        sys.stderr.write(f"hot-symbols.py: {listing} is stale: {problems[0]}"
+                         f"{f' (and {len(problems) - 1} more)' if len(problems) > 1 else ''}; "
+                         "regenerate it with Testing/Benchmarks/make-hot-symbols.sh\n")
+        return 1
+    print(f"hot-symbols.py: {found}/{len(ours)} listed kernel functions present, step loop listed")
+    return 0
+
+
 def main():
+    if len(sys.argv) == 4 and sys.argv[1] == "--check":
+        return check(sys.argv[2], sys.argv[3])
     if len(sys.argv) < 3:
         sys.stderr.write("usage: hot-symbols.py BINARY CALLGRIND_OUT [...]\n")
         return 2
@@ -81,4 +118,8 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except (OSError, subprocess.CalledProcessError, ValueError) as e:
+        sys.stderr.write(f"hot-symbols.py: {e}\n")
+        sys.exit(2)

@@ -348,7 +348,8 @@ DemResult confirmCohesion(DemContext& ctx, const Recording& rec, const std::stri
 
 namespace {
 
-/// Samples at the top of an unload branch: the leading run with y >= 0.8 (the unloading tangent's window).
+/// Samples at the top of an unload branch: the leading run with y >= 0.8, on the samples themselves (the
+/// window of unloadStiffnessExponent's tangents; unloadCurvature finds its ends on a running mean).
 std::size_t topSamples(const Branch& br) {
     std::size_t top = 0;
     while (top < br.y.size() && br.y[top] >= 0.8) ++top;
