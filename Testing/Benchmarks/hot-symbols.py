@@ -38,26 +38,27 @@ def text_symbols(binary):
 def executed(profile, syms, starts, cost):
     """Adds the instructions of each cost line (position columns: instr line) to its function."""
     last = 0
-    for line in open(profile, errors="replace"):
-        if not line or line[0] not in "0123456789+-*":
-            continue
-        tok = line.split()
-        a = tok[0]
-        if a.startswith("0x"):
-            addr = int(a, 16)
-        elif a[0] == "+":
-            addr = last + int(a[1:])
-        elif a[0] == "-":
-            addr = last - int(a[1:])
-        elif a == "*":
-            addr = last
-        else:
-            continue
-        last = addr
-        i = bisect.bisect_right(starts, addr) - 1
-        if i >= 0 and syms[i][0] <= addr < syms[i][0] + max(syms[i][1], 1):
-            n = int(tok[2]) if len(tok) > 2 and tok[2].isdigit() else 1
-            cost[syms[i][2]] += n
+    with open(profile, errors="replace") as f:
+        for line in f:
+            if not line or line[0] not in "0123456789+-*":
+                continue
+            tok = line.split()
+            a = tok[0]
+            if a.startswith("0x"):
+                addr = int(a, 16)
+            elif a[0] == "+":
+                addr = last + int(a[1:])
+            elif a[0] == "-":
+                addr = last - int(a[1:])
+            elif a == "*":
+                addr = last
+            else:
+                continue
+            last = addr
+            i = bisect.bisect_right(starts, addr) - 1
+            if i >= 0 and syms[i][0] <= addr < syms[i][0] + max(syms[i][1], 1):
+                n = int(tok[2]) if len(tok) > 2 and tok[2].isdigit() else 1
+                cost[syms[i][2]] += n
 
 
 # Functions every step of both decks runs: (substring of the mangled name).
@@ -66,7 +67,8 @@ STEP_LOOP = ["DPMBase18integrateFirstHalf", "DPMBase19integrateSecondHalf", "DPM
 
 
 def check(binary, listing):
-    listed = [l.strip() for l in open(listing) if l.strip()]
+    with open(listing) as f:
+        listed = [l.strip() for l in f if l.strip()]
     have = {s[2] for s in text_symbols(binary)}
     ours = [n for n in listed if "pdpm" in n]
     found = sum(1 for n in ours if n in have)

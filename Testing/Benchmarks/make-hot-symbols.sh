@@ -4,7 +4,7 @@
 # callgrind. With lld, the benchmarks are linked with these functions first and together, so the
 # pages of program text that a run touches are few and contiguous (Documentation/performance.md,
 # "Program text"). Run it after changes to the step loop; a stale list costs memory, never results.
-#   Testing/Benchmarks/make-hot-symbols.sh [BUILD_DIR]     (needs valgrind; about 5 minutes)
+#   Testing/Benchmarks/make-hot-symbols.sh [BUILD_DIR]     (needs valgrind; 3 minutes on an idle 2-core machine)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build="${1:-build}"
@@ -27,5 +27,7 @@ profile SettleBenchmark s2.out --steps 30 --threads 2
   python3 Testing/Benchmarks/hot-symbols.py "$build/bin/PeriodicBoxBenchmark" "$tmp/p1.out" "$tmp/p2.out"
   python3 Testing/Benchmarks/hot-symbols.py "$build/bin/SettleBenchmark" "$tmp/s1.out" "$tmp/s2.out"
 } | awk '!seen[$0]++' > "$tmp/hot-symbols.txt"
-mv "$tmp/hot-symbols.txt" Testing/Benchmarks/hot-symbols.txt
+# copied next to the list, then renamed: a killed run never leaves a half-written list
+cp "$tmp/hot-symbols.txt" Testing/Benchmarks/hot-symbols.txt.tmp
+mv Testing/Benchmarks/hot-symbols.txt.tmp Testing/Benchmarks/hot-symbols.txt
 echo "make-hot-symbols.sh: $(wc -l < Testing/Benchmarks/hot-symbols.txt) symbols in Testing/Benchmarks/hot-symbols.txt"
