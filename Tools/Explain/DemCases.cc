@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "Ar1Noise.h"
 #include "Core/Error.h"
 #include "DemConfirmation.h"
 #include "Explain.h"
@@ -251,23 +252,23 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
     const double sigma = peak / spec.snr;
     const double offset = uni(-0.01, 0.01) * smax, drift = uni(-0.01, 0.01) * smax / T;
     std::normal_distribution<double> N(0, 1);
-    double x = N(rng) * sigma;
+    Ar1Noise x = Ar1Noise::stationary(spec.rho, sigma, rng, N);
     const double q = sigma / 2;
     R.stress.resize(static_cast<std::size_t>(n));
     for (std::size_t i = 0; i < R.stress.size(); ++i) {
-        if (i > 0) x = spec.rho * x + std::sqrt(1 - spec.rho * spec.rho) * sigma * N(rng);
-        R.stress[i] = std::round((y[i] + offset + drift * R.t[i] + x) / q) * q;
+        if (i > 0) x.next(rng, N);
+        R.stress[i] = std::round((y[i] + offset + drift * R.t[i] + x.x) / q) * q;
     }
     // the bottom sensor: its own offset and noise (same sd and correlation), quantised alike
     double bottomOffset = 0;
     if (spec.bottomSensor) {
         if (shown.bottom.size() != shown.t.size()) inputError("dem-case: the DEM record has no bottom_stress_Pa");
         bottomOffset = uni(-0.01, 0.01) * smax;
-        double xb = N(rng) * sigma;
+        Ar1Noise xb = Ar1Noise::stationary(spec.rho, sigma, rng, N);
         for (int i = 0; i < n; ++i) {
-            if (i > 0) xb = spec.rho * xb + std::sqrt(1 - spec.rho * spec.rho) * sigma * N(rng);
+            if (i > 0) xb.next(rng, N);
             const double b = at(shown.t, shown.bottom, shown.t.front() + T * (i - nA) / (m - 1));
-            R.bottom.push_back(std::round((b + bottomOffset + xb) / q) * q);
+            R.bottom.push_back(std::round((b + bottomOffset + xb.x) / q) * q);
         }
     }
     // wall_friction: Janssen's mu_w K of the noise-free "with" record

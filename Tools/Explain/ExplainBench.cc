@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 
+#include "Ar1Noise.h"
 #include "Core/Error.h"
 #include "Explain.h"
 #include "ExplainModel.h"
@@ -216,12 +217,12 @@ GeneratedCase generateCase(const CaseSpec& spec) {
     }
     // AR(1) noise with marginal sd sigma, quantised at sigma/2
     std::normal_distribution<double> N(0, 1);
-    double x = N(rng) * sigma;
+    Ar1Noise x = Ar1Noise::stationary(spec.rho, sigma, rng, N);
     const double q = sigma / 2;
     double e2 = 0, emx = 0;
     for (std::size_t i = 0; i < yWith.size(); ++i) {
-        if (i > 0) x = spec.rho * x + std::sqrt(1 - spec.rho * spec.rho) * sigma * N(rng);
-        R.stress[i] = std::round((yWith[i] + x) / q) * q;
+        if (i > 0) x.next(rng, N);
+        R.stress[i] = std::round((yWith[i] + x.x) / q) * q;
         e2 += effect[i] * effect[i];
         emx = std::max(emx, std::abs(effect[i]));
     }

@@ -16,6 +16,7 @@
 #include <random>
 #include <sstream>
 
+#include "Ar1Noise.h"
 #include "Cli.h"
 #include "Core/Error.h"
 #include "DemCases.h"
@@ -107,13 +108,14 @@ int thesis(const std::string& material, const std::string& device, const std::st
     std::mt19937_64 rng(ft4 ? seed + 1000003 : seed);  // the two devices never share a noise sequence
     std::normal_distribution<double> N(0, 1);
     const double sigma = 15.0, rho = 0.5, q = 1.0;  // load-cell noise (Pa), AR(1), quantisation (Pa)
-    double noise = 0, t = 0, e = 0, deficit = 0;
+    Ar1Noise noise = Ar1Noise::fromZero(rho, sigma);
+    double t = 0, e = 0, deficit = 0;
     const double dt = 1 / fs;
     auto emit = [&](double stress) {
-        noise = rho * noise + std::sqrt(1 - rho * rho) * sigma * N(rng);
+        noise.next(rng, N);
         r.t.push_back(t);
         r.strain.push_back(e);
-        r.stress.push_back(std::round((stress + noise + 2.0e-3 * t) / q) * q);  // 2 mPa/s drift
+        r.stress.push_back(std::round((stress + noise.x + 2.0e-3 * t) / q) * q);  // 2 mPa/s drift
         t += dt;
     };
     for (std::size_t k = 0; k < smax.size(); ++k) {
