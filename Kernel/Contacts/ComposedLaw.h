@@ -29,12 +29,38 @@ public:
     static constexpr bool kNeedsRadius = N::kNeedsRadius || T::kNeedsRadius || R::H > 0 || O::H > 0;
     /// Laws with a batched (SIMD) pair loop: linear normal force, with or without Coulomb friction.
     static constexpr bool kBatch = std::is_same_v<N, NormalLinear> &&
-                                   (std::is_same_v<T, TangentialCoulomb> || std::is_same_v<T, NoPart>) &&
+                                   (std::is_same_v<T, TangentialCoulomb> || std::is_same_v<T, TangentialCoulombOneMu> ||
+                                    std::is_same_v<T, NoPart>) &&
                                    std::is_same_v<R, NoPart> && std::is_same_v<O, NoPart>;
+    /// Compositions that exist in two forms, with the sliding flag stored in the pairs' histories
+    /// (TangentialCoulomb) and without (TangentialCoulombOneMu, when every pair has mu_s = mu_d): the
+    /// law `linear`, whose pairs go through the SIMD batch, where the two forms are the same
+    /// instructions but for the flag's load and store. (In the scalar loops of the other laws the
+    /// compiler vectorises the two forms differently, which fuses multiply-adds differently: results
+    /// would differ in the last bits.) Wall contacts keep the flagged form and layout (the same code
+    /// as the flagged law, hence the same bits; they are few).
+    static constexpr bool kOneMuForm = kBatch && !std::is_same_v<T, NoPart>;
+    static constexpr bool kOneMu = std::is_same_v<T, TangentialCoulombOneMu>;
+    using Flagged = ComposedLaw<N, std::conditional_t<kOneMu, TangentialCoulomb, T>, R, O>;
 
     explicit ComposedLaw(std::string name) : name_(std::move(name)) {}
     std::string name() const override { return name_; }
     int historySize() const override { return H; }
+    int omittedSlot() const override { return kOneMu ? N::H + 3 : -1; }
+    int wallHistorySize() const override { return Flagged::H; }
+    std::unique_ptr<ContactLaw> specialised(const SpeciesTable& species) const override {
+        if constexpr (kOneMuForm) {
+            bool oneMu = true;  // every defined entry, in use or not (a pair used later must fit too)
+            for (int a = 0; a < species.size(); ++a)
+                for (int b = 0; b < species.size(); ++b)
+                    if (species.pair(a, b).defined && species.pair(a, b).muS != species.pair(a, b).muD) oneMu = false;
+            constexpr bool flagged = std::is_same_v<T, TangentialCoulomb>;
+            if (oneMu && flagged) return std::make_unique<ComposedLaw<N, TangentialCoulombOneMu, R, O>>(name_);
+            if (!oneMu && !flagged) return std::make_unique<ComposedLaw<N, TangentialCoulomb, R, O>>(name_);
+        }
+        (void)species;
+        return nullptr;
+    }
     void validate(const ContactParameters& p, const std::string& who) const override {
         N::validate(p, who);
         T::validate(p, who);
@@ -121,7 +147,8 @@ public:
                            const Vec3* __restrict w, const double* __restrict r, const int32_t* __restrict sp,
                            Vec3* __restrict f, Vec3* __restrict t, double* __restrict hist, const MinimumImage img,
                            const SpeciesTable& spt, double dt, std::vector<ContactRecord>* rec, double& energy) {
-        constexpr bool kFriction = std::is_same_v<T, TangentialCoulomb>;
+        constexpr bool kFriction = std::is_same_v<T, TangentialCoulomb> || std::is_same_v<T, TangentialCoulombOneMu>;
+        constexpr bool kFlag = std::is_same_v<T, TangentialCoulomb>;  // the sliding flag is stored (h[3])
         constexpr std::size_t kChunk = LinearBatch::kChunk;
         LinearBatch b;  // 22.5 kB on the stack (OpenMP threads have MiB stacks); nothing to initialise
         uint32_t hit[kChunk];
@@ -161,12 +188,12 @@ public:
                     b.h0[q] = h[0];
                     b.h1[q] = h[1];
                     b.h2[q] = h[2];
-                    b.h3[q] = h[3];
+                    if constexpr (kFlag) b.h3[q] = h[3];
                 }
                 if (!oneSpecies) b.template setParameters<kFriction>(q, spt.pair(sp[i], sp[j]));
             }
             const std::size_t m = b.pad(n, kFriction, !oneSpecies);
-            b.template evaluate<kFriction>(m, dt);
+            b.template evaluate<kFriction, kFlag>(m, dt);
             for (std::size_t q = 0; q < n; ++q) {
                 const std::size_t k = c0 + hit[q];
                 const uint32_t i = pi[k], j = pj[k];
@@ -180,7 +207,7 @@ public:
                     h[0] = b.h0[q];
                     h[1] = b.h1[q];
                     h[2] = b.h2[q];
-                    h[3] = b.h3[q];
+                    if constexpr (kFlag) h[3] = b.h3[q];
                 }
                 if (rec) [[unlikely]] {
                     const Vec3 nrm{b.nx[q], b.ny[q], b.nz[q]};
@@ -364,6 +391,12 @@ public:
     }
 
     void computeWallForces(ForceContext& c) const override {
+        if constexpr (kOneMu) Flagged::wallForces(c);  // walls keep the flagged form (see kOneMuForm)
+        else wallForces(c);
+    }
+
+    /// Forces of the wall contacts (scalar law, wall histories of H doubles).
+    static void wallForces(ForceContext& c) {
         ParticleData& P = c.particles;
         NeighbourList& nl = c.neighbours;
         const std::size_t nw = c.walls.size();

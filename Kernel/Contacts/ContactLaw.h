@@ -50,6 +50,18 @@ public:
     virtual std::string name() const = 0;
     /// Doubles of history per contact.
     virtual int historySize() const = 0;
+    /// The form of this law to run with this species table, or nullptr if it is this one. Linear laws
+    /// with Coulomb friction and no rolling parts drop the sliding flag from their history when every
+    /// pair has mu_s = mu_d (it selects between equal coefficients), and take it back otherwise; the
+    /// forces are the same bits (ComposedLaw, TangentialCoulombOneMu). DPMBase asks before the time
+    /// loop and whenever the species table changes.
+    virtual std::unique_ptr<ContactLaw> specialised(const SpeciesTable&) const { return nullptr; }
+    /// Slot of the law's canonical history that this form does not store (-1: none). Restart files
+    /// hold the canonical layout: historySize() + 1 doubles per contact with 0 in this slot.
+    virtual int omittedSlot() const { return -1; }
+    int canonicalHistorySize() const { return historySize() + (omittedSlot() >= 0 ? 1 : 0); }
+    /// Doubles of history per wall contact (a one-coefficient form keeps the canonical layout there).
+    virtual int wallHistorySize() const { return historySize(); }
     /// Throw InputError naming `who` if a parameter this law uses is out of range.
     virtual void validate(const ContactParameters& p, const std::string& who) const = 0;
     /// Largest stiffness of any part (for the time step), and the normal dashpot.

@@ -33,7 +33,7 @@ struct LinearBatch {
     alignas(64) double vx[kMax], vy[kMax], vz[kMax];            ///< v_i - v_j (+ the box's flow terms)
     alignas(64) double wix[kMax], wiy[kMax], wiz[kMax];         ///< angular velocities
     alignas(64) double wjx[kMax], wjy[kMax], wjz[kMax];
-    alignas(64) double h0[kMax], h1[kMax], h2[kMax], h3[kMax];  ///< spring, sliding flag (in/out)
+    alignas(64) double h0[kMax], h1[kMax], h2[kMax], h3[kMax];  ///< spring, sliding flag (in/out; h3 unused without the flag)
     alignas(64) double k[kMax], gamma[kMax];                    ///< normal parameters
     alignas(64) double kt[kMax], gammaT[kMax], muS[kMax], muD[kMax]; ///< tangential parameters
     // ---- output per contact
@@ -75,8 +75,9 @@ struct LinearBatch {
         return m;
     }
 
-    /// Evaluate lanes [0, m), m a multiple of kPad (see pad()).
-    template <bool kFriction>
+    /// Evaluate lanes [0, m), m a multiple of kPad (see pad()). kFlag = false: no sliding flag (h3 is
+    /// neither read nor written; the pairs have mu_s = mu_d, TangentialCoulombOneMu).
+    template <bool kFriction, bool kFlag = true>
     [[gnu::noinline]] void evaluate(std::size_t m, double dt) {
 #pragma omp simd
         for (std::size_t q = 0; q < m; ++q) {
@@ -117,7 +118,8 @@ struct LinearBatch {
                 double fy = -kt[q] * py - gammaT[q] * ty;
                 double fz = -kt[q] * pz - gammaT[q] * tz;
                 const double md = muD[q], ms = muS[q];
-                const double limit = (h3[q] != 0 ? md : ms) * load;
+                double limit = ms * load;
+                if constexpr (kFlag) limit = (h3[q] != 0 ? md : ms) * load;
                 const double f2 = fx * fx + fy * fy + fz * fz;
                 const bool capped = f2 > limit * limit;
                 const double fm = std::sqrt(f2 > 0 ? f2 : 1.0);
@@ -133,7 +135,7 @@ struct LinearBatch {
                 py = respring ? qy : py;
                 pz = respring ? qz : pz;
                 h0[q] = px; h1[q] = py; h2[q] = pz;
-                h3[q] = capped ? 1.0 : 0.0;
+                if constexpr (kFlag) h3[q] = capped ? 1.0 : 0.0;
                 sliding[q] = capped ? 1.0 : 0.0;
                 e += 0.5 * kt[q] * (px * px + py * py + pz * pz);
                 ftx[q] = fx; fty[q] = fy; ftz[q] = fz;

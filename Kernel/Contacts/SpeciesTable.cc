@@ -27,6 +27,7 @@ void SpeciesTable::setPair(int a, int b, const ContactParameters& p) {
     q.defined = true;
     table_[static_cast<std::size_t>(a) * n_ + b] = q;
     table_[static_cast<std::size_t>(b) * n_ + a] = q;
+    ++revision_;
 }
 
 int SpeciesTable::find(const std::string& name) const {

@@ -20,16 +20,23 @@ public:
     /// Explicit parameters of the pair (a, b) (symmetric).
     void setPair(int a, int b, const ContactParameters& p);
     const ContactParameters& pair(int a, int b) const { return table_[static_cast<std::size_t>(a) * n_ + b]; }
-    ContactParameters& pairMutable(int a, int b) { return table_[static_cast<std::size_t>(a) * n_ + b]; }
+    ContactParameters& pairMutable(int a, int b) {
+        ++revision_;
+        return table_[static_cast<std::size_t>(a) * n_ + b];
+    }
+    /// Changes whenever the table may have changed (add, setPair, pairMutable, clear): DPMBase then
+    /// asks the contact law again which form fits (ContactLaw::specialised).
+    unsigned long revision() const { return revision_; }
     const Species& operator[](int a) const { return species_.at(a); }
     int size() const { return static_cast<int>(n_); }
     int find(const std::string& name) const;  ///< -1 if absent
-    void clear() { species_.clear(); table_.clear(); n_ = 0; }
+    void clear() { species_.clear(); table_.clear(); n_ = 0; ++revision_; }
 
 private:
     std::vector<Species> species_;
     std::vector<ContactParameters> table_;
     std::size_t n_ = 0;
+    unsigned long revision_ = 0;
 };
 
 } // namespace pdpm

@@ -19,23 +19,26 @@ inline void projectKeepingLength(Vec3& xi, const Vec3& n) {
 
 /// Spring-dashpot with a Coulomb-type cap, shared by sliding and rolling friction.
 /// h[0..2] spring, h[3] = 1 while at the limit (then the dynamic coefficient applies).
+/// kFlag = false: no h[3]; for muS == muD, where the flag changes nothing (the same arithmetic).
 /// Returns the force; sets `capped`.
+template <bool kFlag = true>
 inline Vec3 cappedSpring(double* h, const Vec3& n, const Vec3& vel, double k, double g, double muS,
                          double muD, double load, double dt, bool& capped) {
     Vec3 xi{h[0], h[1], h[2]};
     projectKeepingLength(xi, n);
     xi += vel * dt;
     Vec3 f = -k * xi - g * vel;
-    const double limit = (h[3] != 0 ? muD : muS) * load;
+    double limit = muS * load;
+    if constexpr (kFlag) limit = (h[3] != 0 ? muD : muS) * load;
     const double f2 = norm2(f);
     capped = f2 > limit * limit;
     if (capped) {
         const double fm = std::sqrt(f2);
         f *= muD * load / fm;
         if (k > 0) xi = -(f + g * vel) / k;
-        h[3] = 1;
+        if constexpr (kFlag) h[3] = 1;
     } else {
-        h[3] = 0;
+        if constexpr (kFlag) h[3] = 0;
     }
     h[0] = xi.x; h[1] = xi.y; h[2] = xi.z;
     return f;
@@ -67,6 +70,24 @@ struct TangentialCoulomb {
     static double stiffness(const ContactParameters& p, double) { return p.kt; }
     static void apply(const ContactParameters& p, const ContactState& s, double* h, ContactOutput& o) {
         o.ft = detail::cappedSpring(h, s.n, s.vt, p.kt, p.gammaT, p.muS, p.muD, o.fnFriction, s.dt, o.sliding);
+        o.energy += 0.5 * p.kt * (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    }
+};
+
+/// TangentialCoulomb for a species table in which every pair has mu_s = mu_d: the sliding flag then
+/// selects between two equal coefficients, so it is not stored (history: spring (3), 8 B per pair
+/// less) and the forces are bitwise those of TangentialCoulomb. Never chosen by name: ComposedLaw::
+/// specialised() swaps it in for TangentialCoulomb (and back) when the species table allows.
+struct TangentialCoulombOneMu {
+    static constexpr int H = 3;
+    static constexpr bool kNeedsMass = false, kNeedsRadius = false;
+    static void validate(const ContactParameters& p, const std::string& who) {
+        TangentialCoulomb::validate(p, who);
+        if (p.muD != p.muS) inputError(who + ": the one-coefficient friction part needs mu_d = mu_s");
+    }
+    static double stiffness(const ContactParameters& p, double) { return p.kt; }
+    static void apply(const ContactParameters& p, const ContactState& s, double* h, ContactOutput& o) {
+        o.ft = detail::cappedSpring<false>(h, s.n, s.vt, p.kt, p.gammaT, p.muS, p.muD, o.fnFriction, s.dt, o.sliding);
         o.energy += 0.5 * p.kt * (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
     }
 };

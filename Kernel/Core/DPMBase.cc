@@ -1,4 +1,5 @@
 #include "Core/DPMBase.h"
+#include "Core/MemoryPolicy.h"
 
 #include <omp.h>
 
@@ -47,7 +48,24 @@ void DPMBase::setContactLaw(const std::string& name) {
     if (stateLoaded_ && name != lawName_) discardLoadedContacts();
     params_.set("contact_law", name);
     law_ = makeContactLaw(name);
+    lawRevision_ = ~0ul;  // choose the form again before the next force evaluation
     neighbours_.invalidate();
+}
+
+// One form of a law stores one slot fewer than the other (ContactLaw::omittedSlot). The list holds the
+// layout of the form that ran last, or the canonical one (read from a restart file).
+void DPMBase::specialiseLaw() {
+    lawRevision_ = species_.revision();
+    std::unique_ptr<ContactLaw> form = law_->specialised(species_);
+    if (!form) return;
+    const int stored = neighbours_.historySize;
+    if (stored > 0) {
+        if (form->omittedSlot() >= 0 && stored == form->historySize() + 1)
+            neighbours_.removeHistorySlot(form->omittedSlot());
+        else if (form->omittedSlot() < 0 && law_->omittedSlot() >= 0 && stored == form->historySize() - 1)
+            neighbours_.insertHistorySlot(law_->omittedSlot());
+    }
+    law_ = std::move(form);
 }
 
 // The one rule for a state loaded with readRestart(path, true) that is run under another contact law
@@ -106,6 +124,7 @@ std::string DPMBase::outputPath(const std::string& suffix) const {
 
 // ---- command line -----------------------------------------------------------------------------------
 int DPMBase::run(int argc, char** argv) {
+    applyMemoryPolicy();  // before the run allocates: freed scratch goes back to the system
     return runMain(name_.c_str(), [&]() -> int {
         options_ = parseCommandLine(argc, argv, params_);
         if (options_.help) {
@@ -183,6 +202,7 @@ void DPMBase::prepare(bool freshStart) {
             law_->validate(p, who);
         }
     }
+    specialiseLaw();
     const double tc = minCollisionTime();
     if (dt_ == 0) dt_ = tc / 50;
     if (!(dt_ > 0) || !std::isfinite(dt_)) inputError("time step could not be determined (dt = " + fmt(dt_) + ")");
@@ -196,7 +216,7 @@ void DPMBase::prepare(bool freshStart) {
     // bitwise continuation); it is rebuilt only on a fresh start.
     if (freshStart || !neighbours_.isValid()) {
         neighbours_.setSkin(skinParameter_);
-        neighbours_.build(particles_, box_, walls_, law_->historySize());
+        neighbours_.build(particles_, box_, walls_, law_->historySize(), law_->wallHistorySize());
     }
     slabRecords_.resize(neighbours_.slabCount() + 1);
     slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
@@ -269,12 +289,13 @@ void DPMBase::solve() {
         actionsBeforeTimeStep();  // may call requestContacts() for this step's force evaluation
         const bool record = recordRequested_ || (outputNeedsContacts() && time_ + dt_ >= nextOutput_ - 0.5 * dt_);
         recordRequested_ = false;
+        specialiseLawIfSpeciesChanged();  // a driver may have changed mu_s or mu_d
         const double maxDisplacement = integrateFirstHalf();
         time_ += dt_;
         for (auto& w : walls_) w->moveTo(time_);
         if (neighbours_.needsRebuild(maxDisplacement, particles_, box_, walls_)) {
             if (box_.flowing()) wrapWithFlow();
-            neighbours_.build(particles_, box_, walls_, law_->historySize());
+            neighbours_.build(particles_, box_, walls_, law_->historySize(), law_->wallHistorySize());
             slabRecords_.resize(neighbours_.slabCount() + 1);
             slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
         }
@@ -322,7 +343,8 @@ double DPMBase::integrateFirstHalf() {
     Vec3* __restrict f = P.f.data();
     Vec3* __restrict t = P.t.data();
     const double* __restrict invM = P.invM.data();
-    const double* __restrict invI = P.invI.data();
+    const double* __restrict m = P.m.data();
+    const double* __restrict r = P.r.data();
     const uint8_t* __restrict fixed = P.fixed.data();
     const Vec3* __restrict x0 = neighbours_.referencePositions();
     Vec3* __restrict vp = vPred_.data();
@@ -332,7 +354,7 @@ double DPMBase::integrateFirstHalf() {
     for (long i = 0; i < n; ++i) {
         if (!fixed[i]) {
             const Vec3 dv = (h * invM[i]) * f[i];
-            const Vec3 dw = (h * invI[i]) * t[i];
+            const Vec3 dw = (h * ParticleData::inverseInertia(m[i], r[i])) * t[i];
             v[i] += dv;
             w[i] += dw;
             x[i] += dt * v[i];
@@ -383,7 +405,7 @@ bool DPMBase::integrateSecondHalf() {
     Vec3* __restrict t = P.t.data();
     const double* __restrict m = P.m.data();
     const double* __restrict invM = P.invM.data();
-    const double* __restrict invI = P.invI.data();
+    const double* __restrict r = P.r.data();
     const uint8_t* __restrict fixed = P.fixed.data();
     const Vec3* __restrict vp = vPred_.data();
     const Vec3* __restrict wp = wPred_.data();
@@ -393,7 +415,7 @@ bool DPMBase::integrateSecondHalf() {
         t[i] -= gbr * wp[i];
         if (!fixed[i]) {
             v[i] += (h * invM[i]) * f[i];
-            w[i] += (h * invI[i]) * t[i];
+            w[i] += (h * ParticleData::inverseInertia(m[i], r[i])) * t[i];
         }
         if (!std::isfinite(v[i].x + v[i].y + v[i].z + w[i].x + w[i].y + w[i].z)) bad = true;
     }
@@ -458,9 +480,10 @@ void DPMBase::gatherRecords() {
 }
 
 void DPMBase::refreshContacts() {
+    specialiseLawIfSpeciesChanged();
     if (!neighbours_.isValid()) {
         neighbours_.setSkin(skinParameter_);
-        neighbours_.build(particles_, box_, walls_, law_->historySize());
+        neighbours_.build(particles_, box_, walls_, law_->historySize(), law_->wallHistorySize());
         slabRecords_.resize(neighbours_.slabCount() + 1);
         slabEnergy_.assign(neighbours_.slabCount() + 1, 0.0);
     }

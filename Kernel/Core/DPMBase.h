@@ -181,6 +181,13 @@ protected:
 
 private:
     void prepare(bool freshStart);
+    /// Run the form of the contact law that fits the species table (ContactLaw::specialised; e.g. no
+    /// sliding flag when every pair has mu_s = mu_d), converting the stored histories between layouts.
+    /// Called before the first neighbour build and again whenever the species table has changed.
+    void specialiseLaw();
+    void specialiseLawIfSpeciesChanged() {
+        if (species_.revision() != lawRevision_) specialiseLaw();
+    }
     /// A loaded state is run under another law than its file's: drop its histories and stored forces.
     void discardLoadedContacts();
     /// Pair, wall and additional forces at the current state. `historyDt` is the time over which the
@@ -209,6 +216,7 @@ private:
     PeriodicBox box_;
     WallList walls_;
     std::unique_ptr<ContactLaw> law_;
+    unsigned long lawRevision_ = ~0ul;  ///< species_.revision() when the law's form was last chosen
     NeighbourList neighbours_;
     Vec3 gravity_;
     double gammaBt_ = 0, gammaBr_ = 0;

@@ -75,7 +75,7 @@ void DPMBase::writeRestart(const std::string& path) const {
     std::ostringstream os;
     os << kMagic << ' ' << kVersion << '\n';
     os << "program " << name_ << '\n';
-    os << "law " << law_->name() << ' ' << law_->historySize() << '\n';
+    os << "law " << law_->name() << ' ' << law_->canonicalHistorySize() << '\n';
     os << "time " << fmt(time_) << " step " << step_ << " dt " << fmt(dt_) << '\n';
     os << "output " << outputIndex_ << ' ' << fmt(nextOutput_) << ' ' << fmt(outputEvery_) << '\n';
     os << "rng " << rng_ << '\n';
@@ -102,7 +102,7 @@ void DPMBase::writeRestart(const std::string& path) const {
     for (std::size_t i = 0; i < P.size(); ++i)
         os << fmt(P.x[i]) << ' ' << fmt(P.v[i]) << ' ' << fmt(P.w[i]) << ' ' << fmt(P.f[i]) << ' ' << fmt(P.t[i]) << ' '
            << fmt(P.r[i]) << ' ' << P.species[i] << ' ' << int(P.fixed[i]) << '\n';
-    neighbours_.write(os);
+    neighbours_.write(os, law_->omittedSlot());  // the canonical layout, whatever form ran
     std::vector<std::pair<std::string, std::string>> kv;
     saveDriverState(kv);
     os << "driver " << kv.size() << '\n';

@@ -19,7 +19,7 @@ namespace pdpm {
 
 std::size_t NeighbourList::bytes() const {
     return (pairI.capacity() + pairJ.capacity() + wallParticle.capacity() + cellStart_.capacity() +
-            cellList_.capacity()) * sizeof(uint32_t) +
+            cellList_.capacity() + runStart_.capacity()) * sizeof(uint32_t) +
            (history.capacity() + wallHistory.capacity()) * sizeof(double) + x0_.capacity() * sizeof(Vec3) +
            slabStart.capacity() * sizeof(std::size_t) + [&] {
                std::size_t b = 0;
@@ -53,6 +53,19 @@ void writeVec(std::ostream& os, const char* name, const std::vector<T>& v) {
         os << ((k + 1) % 16 == 0 || k + 1 == v.size() ? '\n' : ' ');
     }
 }
+// A history array of H doubles per contact written in the canonical layout of H + 1 doubles, with a
+// 0 at slot `omitted` (omitted < 0: as stored); the same text as writeVec of the expanded array.
+void writeHistory(std::ostream& os, const char* name, const std::vector<double>& v, int H, int omitted) {
+    if (omitted < 0 || H <= 0) return writeVec(os, name, v);
+    const std::size_t h = static_cast<std::size_t>(H), hc = h + 1, slot = static_cast<std::size_t>(omitted);
+    const std::size_t n = v.size() / h * hc;
+    os << name << ' ' << n << '\n';
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t c = k / hc, q = k % hc;
+        os << fmt(q == slot ? 0.0 : v[c * h + (q < slot ? q : q - 1)]);
+        os << ((k + 1) % 16 == 0 || k + 1 == n ? '\n' : ' ');
+    }
+}
 template <class T>
 void readVec(std::istream& is, const char* name, std::vector<T>& v, std::size_t maxSize) {
     std::string tag;
@@ -69,8 +82,9 @@ void readVec(std::istream& is, const char* name, std::vector<T>& v, std::size_t 
 }
 } // namespace
 
-void NeighbourList::write(std::ostream& os) const {
-    os << "neighbours " << fmt(skin_) << ' ' << fmt(skinUsed_) << ' ' << historySize << ' ' << builds_ << ' '
+void NeighbourList::write(std::ostream& os, int omittedSlot) const {
+    const int written = historySize > 0 && omittedSlot >= 0 ? historySize + 1 : historySize;
+    os << "neighbours " << fmt(skin_) << ' ' << fmt(skinUsed_) << ' ' << written << ' ' << builds_ << ' '
        << phases.size() << '\n';
     for (const auto& ph : phases) {
         os << ph.size();
@@ -80,7 +94,7 @@ void NeighbourList::write(std::ostream& os) const {
     writeVec(os, "slabStart", slabStart);
     writeVec(os, "pairI", pairI);
     writeVec(os, "pairJ", pairJ);
-    writeVec(os, "history", history);
+    writeHistory(os, "history", history, historySize, omittedSlot);
     writeVec(os, "wallStart", wallStart);
     writeVec(os, "wallParticle", wallParticle);
     writeVec(os, "wallHistory", wallHistory);
@@ -95,6 +109,8 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     skin_ = readDouble(is);
     skinUsed_ = readDouble(is);
     is >> historySize >> builds_ >> nPhases;
+    wallHistorySize = historySize;  // files hold the canonical layout, pairs and walls alike
+    runStart_.clear();              // not in the file: the next build indexes the old pairs instead
     if (!is || tag != "neighbours" || nPhases > 3) inputError("restart: malformed neighbour header");
     phases.assign(nPhases, {});
     for (auto& ph : phases) {
@@ -136,6 +152,39 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     valid_ = true;
 }
 
+namespace {
+// H doubles per contact -> H - 1 (slot removed), in place
+void removeSlot(std::vector<double>& v, std::size_t H, std::size_t slot) {
+    const std::size_t n = v.size() / H;
+    std::size_t o = 0;
+    for (std::size_t c = 0; c < n; ++c)
+        for (std::size_t q = 0; q < H; ++q)
+            if (q != slot) v[o++] = v[c * H + q];
+    v.resize(o);
+}
+// H doubles per contact -> H + 1 (a 0 at slot)
+void insertSlot(std::vector<double>& v, std::size_t H, std::size_t slot) {
+    const std::size_t n = v.size() / H;
+    std::vector<double> w;
+    w.reserve(n * (H + 1) + (v.capacity() - v.size()) / H * (H + 1));
+    for (std::size_t c = 0; c < n; ++c)
+        for (std::size_t q = 0; q <= H; ++q) w.push_back(q == slot ? 0.0 : v[c * H + (q < slot ? q : q - 1)]);
+    v.swap(w);
+}
+} // namespace
+
+void NeighbourList::removeHistorySlot(int slot) {
+    if (historySize <= 0 || slot < 0 || slot >= historySize) return;
+    removeSlot(history, static_cast<std::size_t>(historySize), static_cast<std::size_t>(slot));
+    --historySize;
+}
+
+void NeighbourList::insertHistorySlot(int slot) {
+    if (historySize <= 0 || slot < 0 || slot > historySize) return;
+    insertSlot(history, static_cast<std::size_t>(historySize), static_cast<std::size_t>(slot));
+    ++historySize;
+}
+
 void NeighbourList::countPhasePairs() {
     phasePairs.resize(phases.size());
     for (std::size_t p = 0; p < phases.size(); ++p) {
@@ -169,7 +218,23 @@ std::pair<int, int> NeighbourList::threadSlabs(std::size_t p, int thread, int th
 // its (unique) reader may still need; so entries are moved along chains that start at a position
 // nobody reads (each move frees the source for the next), and the positions left over form cycles,
 // closed with one saved entry.
-void NeighbourList::moveHistoryInPlace(std::vector<uint32_t>& src, std::size_t nOld, uint32_t none) {
+namespace {
+// The old pair of every new pair, kept in the per-slab lists of the search (slabK_) rather than
+// copied into one array (4 B per pair less at the build's peak): entry k of the whole list is entry
+// k - start[s] of slab s (the last slab that starts at or before k; empty slabs share a start).
+struct SlabIndex {
+    std::vector<std::vector<uint32_t>>& seg;
+    const std::vector<std::size_t>& start;
+    std::size_t size() const { return start.back(); }
+    uint32_t& operator[](std::size_t k) {
+        const std::size_t s = static_cast<std::size_t>(std::upper_bound(start.begin(), start.end(), k) - start.begin()) - 1;
+        return seg[s][k - start[s]];
+    }
+};
+} // namespace
+
+template <class Src>
+void NeighbourList::moveHistoryInPlace(Src& src, std::size_t nOld, uint32_t none) {
     const std::size_t nNew = src.size(), H = static_cast<std::size_t>(historySize);
     const std::size_t nPos = std::max(nNew, nOld);
     const uint32_t done = none - 1;  // src values are old pair indices < nOld < done
@@ -213,10 +278,12 @@ void NeighbourList::moveHistoryInPlace(std::vector<uint32_t>& src, std::size_t n
     history.resize(nNew * H);
 }
 
-void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& walls, int hsize) {
+void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& walls, int hsize, int wsize) {
+    if (wsize < 0) wsize = hsize;
     const std::size_t n = p.size();
     if (n >= 0xffffffffu) inputError("too many particles for 32-bit neighbour indices");
     const bool carry = historySize == hsize && hsize > 0;
+    const bool carryWallHistory = wallHistorySize == wsize && wsize > 0;
 
     // The old pair lists stay where they are until the new pairs have been found (each new pair
     // notes the old pair it continues); then the new pairs overwrite them and the histories are
@@ -226,6 +293,7 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     oldWallHistory_.swap(wallHistory);
     oldWallStart_.swap(wallStart);
     historySize = hsize;
+    wallHistorySize = wsize;
 
     for (auto& xi : p.x) box.wrap(xi);
 
@@ -330,14 +398,21 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     // excluded above (nc < 3 -> 1), so +-1 neighbours are distinct cells.
     const MinimumImage img(box);
 
-    // ---- the old pairs that carry history, indexed by their first particle (CSR) -------------------
-    // Only pairs with a non-zero history (bitwise: -0.0 counts) need to be found again; the others
-    // start from zero anyway. The index is filled backwards from the ends, like the cells.
+    // ---- finding the old pair that a new pair continues ----------------------------------------------
+    // The last build found the pairs of each particle it visited one after another (runStart_: where
+    // that run starts, kNone: none), so the old pair {a, b} lies in the run of a or in that of b:
+    // a short scan of each (a run is followed while its pairs contain the particle; any old pair
+    // holding both a and b is the one, the pairs being unique). Without runs (the first build after
+    // a restart, a changed particle count) an index of the old pairs with a non-zero history
+    // (bitwise: -0.0 counts), by their first particle (CSR), is built instead, filled backwards like
+    // the cells. Both give the same history to every new pair: a pair found through its run with a
+    // zero history moves zeros.
     const std::size_t nOld = pairI.size();
     const bool transfer = carry && nOld > 0 && history.size() == nOld * static_cast<std::size_t>(hsize);
     constexpr uint32_t kNone = 0xffffffffu;
+    const bool runs = transfer && runStart_.size() == n;
     std::vector<uint32_t> csrStart, csrIndex;
-    if (transfer) {
+    if (transfer && !runs) {
         auto carriesHistory = [&](std::size_t k) {
             uint64_t bits = 0;
             for (int q = 0; q < hsize; ++q) bits |= std::bit_cast<uint64_t>(history[k * hsize + q]);
@@ -361,17 +436,38 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     const std::size_t expectPerSlab = nOld > 0 ? nOld / nSlab + nOld / (8 * nSlab) + 16 : 0;
     const Vec3* x = p.x.data();
     const double* r = p.r.data();
+    const uint32_t* oldI = pairI.data();
     const uint32_t* oldJ = pairJ.data();
+    const uint32_t* runOf = runStart_.data();
+    // the old pair {a, b} (a < b), or kNone
+    auto oldPair = [&](uint32_t a, uint32_t b) -> uint32_t {
+        if (runs) {
+            for (uint32_t k = runOf[a]; k < nOld && (oldI[k] == a || oldJ[k] == a); ++k)
+                if (oldI[k] == b || oldJ[k] == b) return k;
+            for (uint32_t k = runOf[b]; k < nOld && (oldI[k] == b || oldJ[k] == b); ++k)
+                if (oldI[k] == a || oldJ[k] == a) return k;
+            return kNone;
+        }
+        for (uint32_t e = csrStart[a]; e < csrStart[a + 1]; ++e)
+            if (oldJ[csrIndex[e]] == b) return csrIndex[e];
+        return kNone;
+    };
 #pragma omp parallel for schedule(dynamic, 1)
     for (int s = 0; s < nSlab; ++s) {
-        auto& li = slabI_[s];
+        // Per slab: the partner j of every pair found, in the order found, and for every particle
+        // the slab visits (cells in order, particles in cell order) the number of pairs found from
+        // it; the first particle i of each pair is implied by that order, so it is not stored (4 B
+        // per pair less at the build's peak). The concatenation walks the same order.
+        auto& ln = slabI_[s];
         auto& lj = slabJ_[s];
         auto& lk = slabK_[s];
-        li.clear();
+        ln.clear();
         lj.clear();
         lk.clear();
-        li.reserve(expectPerSlab);
         lj.reserve(expectPerSlab);
+        if (transfer) lk.reserve(expectPerSlab);
+        // the slab's cells are contiguous in the cell numbering (slab axis outermost)
+        ln.reserve(cellStart_[cellIndex(s, nc[sb] - 1, nc[sc] - 1) + 1] - cellStart_[cellIndex(s, 0, 0)]);
         // Private copies: in the outlined parallel loop, shared variables are reached through
         // pointers, and every push_back would make the compiler reload them.
         const MinimumImage im = img;
@@ -410,6 +506,7 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
                     const uint32_t i = cl[ki];
                     const Vec3 xi = x[i];
                     const double ri = r[i];
+                    const std::size_t first = lj.size();
                     for (int q = 0; q < ns; ++q) {
                         const std::size_t c2 = stencil[q];
                         const uint32_t kEnd = cs[c2 + 1];
@@ -418,35 +515,23 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
                             double dx = xi.x - x[j].x, dy = xi.y - x[j].y, dz = xi.z - x[j].z;
                             im.apply(dx, dy, dz);
                             const double rc = ri + r[j] + sk;  // the same sum as before: same lists
-                            if (dx * dx + dy * dy + dz * dz < rc * rc) {
-                                li.push_back(std::min(i, j));
-                                lj.push_back(std::max(i, j));
-                            }
+                            if (dx * dx + dy * dy + dz * dz < rc * rc) lj.push_back(j);
                         }
                     }
+                    ln.push_back(static_cast<uint32_t>(lj.size() - first));
+                    // the old pair that each new pair continues (its history moves along)
+                    if (transfer)
+                        for (std::size_t q = first; q < lj.size(); ++q)
+                            lk.push_back(oldPair(std::min(i, lj[q]), std::max(i, lj[q])));
                 }
             }
-        // the old pair that each new pair continues (its history moves along)
-        if (transfer) {
-            lk.resize(li.size());
-            for (std::size_t q = 0; q < li.size(); ++q) {
-                const uint32_t a = li[q], b = lj[q];
-                uint32_t ko = kNone;
-                for (uint32_t e = csrStart[a]; e < csrStart[a + 1]; ++e)
-                    if (oldJ[csrIndex[e]] == b) {
-                        ko = csrIndex[e];
-                        break;
-                    }
-                lk[q] = ko;
-            }
-        }
     }
     std::vector<uint32_t>().swap(csrStart);
     std::vector<uint32_t>().swap(csrIndex);
 
     // ---- concatenate: the new pairs overwrite the old ones --------------------------------------
     slabStart.assign(nSlab + 1, 0);
-    for (int s = 0; s < nSlab; ++s) slabStart[s + 1] = slabStart[s] + slabI_[s].size();
+    for (int s = 0; s < nSlab; ++s) slabStart[s + 1] = slabStart[s] + slabJ_[s].size();
     const std::size_t nPairs = slabStart[nSlab];
     // A little spare capacity, so that a list that grows slowly (a compressed packing) rarely needs a
     // new block (which, for the history, would briefly hold old and new together).
@@ -460,17 +545,29 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     };
     resizeDiscarding(pairI, nPairs);
     resizeDiscarding(pairJ, nPairs);
-    std::vector<uint32_t> src;
-    if (transfer) src.resize(nPairs);
+    if (nPairs >= kNone) inputError("too many neighbour pairs for 32-bit pair indices");
+    runStart_.assign(n, kNone);  // the runs of this build, for the next one
     for (int s = 0; s < nSlab; ++s) {
-        std::copy(slabI_[s].begin(), slabI_[s].end(), pairI.begin() + slabStart[s]);
-        std::copy(slabJ_[s].begin(), slabJ_[s].end(), pairJ.begin() + slabStart[s]);
-        if (transfer) std::copy(slabK_[s].begin(), slabK_[s].end(), src.begin() + slabStart[s]);
+        // the visiting order of the search: cells of the slab in order, particles in cell order
+        const std::vector<uint32_t>& ln = slabI_[s];
+        const std::vector<uint32_t>& lj = slabJ_[s];
+        std::size_t out = slabStart[s], q = 0, v = 0;
+        for (int cb = 0; cb < nc[sb]; ++cb)
+            for (int cc = 0; cc < nc[sc]; ++cc) {
+                const std::size_t c = cellIndex(s, cb, cc);
+                for (uint32_t ki = cellStart_[c]; ki < cellStart_[c + 1]; ++ki) {
+                    const uint32_t i = cellList_[ki];
+                    if (ln[v] > 0) runStart_[i] = static_cast<uint32_t>(out);
+                    for (uint32_t e = ln[v++]; e > 0; --e, ++q, ++out) {
+                        pairI[out] = std::min(i, lj[q]);
+                        pairJ[out] = std::max(i, lj[q]);
+                    }
+                }
+            }
     }
     auto release = [](auto& v) { std::remove_reference_t<decltype(v)>().swap(v); };
     for (auto& v : slabI_) release(v);
     for (auto& v : slabJ_) release(v);
-    for (auto& v : slabK_) release(v);
     // Phases: even slabs, odd slabs (and the last slab alone if periodic and odd in number).
     phases.clear();
     if (nSlab == 1) {
@@ -492,6 +589,7 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     countPhasePairs();
 
     // ---- history transfer: new pair k takes the history of old pair src[k] (or zeros) -------------
+    SlabIndex src{slabK_, slabStart};
     const std::size_t H = static_cast<std::size_t>(hsize);
     if (!transfer) {
         resizeDiscarding(history, nPairs * H);
@@ -507,9 +605,10 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
     } else {
         moveHistoryInPlace(src, nOld, kNone);
     }
+    for (auto& v : slabK_) release(v);
 
     // ---- wall lists -----------------------------------------------------------------------------
-    const bool carryWalls = carry && oldWallStart_.size() == walls.size() + 1;
+    const bool carryWalls = carryWallHistory && oldWallStart_.size() == walls.size() + 1;
     wallStart.assign(walls.size() + 1, 0);
     wallParticle.clear();
     wallHistory.clear();
@@ -522,10 +621,10 @@ void NeighbourList::build(ParticleData& p, PeriodicBox& box, const WallList& wal
             if (d < p.r[i] + skin) {
                 wallParticle.push_back(static_cast<uint32_t>(i));
                 const std::size_t base = wallHistory.size();
-                wallHistory.resize(base + hsize, 0.0);
+                wallHistory.resize(base + wsize, 0.0);
                 while (q < qEnd && oldWallParticle_[q] < i) ++q;
                 if (q < qEnd && oldWallParticle_[q] == i)
-                    std::copy_n(&oldWallHistory_[q * hsize], hsize, &wallHistory[base]);
+                    std::copy_n(&oldWallHistory_[q * wsize], wsize, &wallHistory[base]);
             }
         }
         wallStart[w + 1] = wallParticle.size();

@@ -36,8 +36,9 @@ public:
     const Vec3* referencePositions() const { return x0_.data(); }
     std::size_t referenceCount() const { return valid_ ? x0_.size() : 0; }
     /// Wrap particles into the periodic box and rebuild pairs and wall lists, carrying contact
-    /// histories over. `historySize` = doubles of history per contact (from the contact law).
-    void build(ParticleData& p, PeriodicBox& box, const WallList& walls, int historySize);
+    /// histories over. `historySize` = doubles of history per pair, `wallHistorySize` per wall
+    /// contact (from the contact law; -1: the same as per pair).
+    void build(ParticleData& p, PeriodicBox& box, const WallList& walls, int historySize, int wallHistorySize = -1);
     /// Forget everything (e.g. after particles were added or the law changed).
     void invalidate() { valid_ = false; }
     /// Forgets every contact history (pairs and walls), so that the next build starts all contacts
@@ -45,10 +46,15 @@ public:
     void dropHistories() {
         history.clear();
         wallHistory.clear();
-        historySize = 0;
+        historySize = wallHistorySize = 0;
+        runStart_.clear();
         valid_ = false;
     }
     bool isValid() const { return valid_; }
+    /// Change the pairs' history layout in place: drop slot `slot` of every pair's history, or insert
+    /// a 0 there (a contact law switching form, ContactLaw::specialised). Wall histories keep theirs.
+    void removeHistorySlot(int slot);
+    void insertHistorySlot(int slot);
 
     // ---- pair data (read by the contact loops) --------------------------------------------------
     std::vector<uint32_t> pairI, pairJ;  ///< canonical i < j
@@ -63,10 +69,11 @@ public:
     /// particles that the statically scheduled integration passes give it (cache affinity).
     std::pair<int, int> threadSlabs(std::size_t p, int thread, int threads) const;
     int historySize = 0;
+    int wallHistorySize = 0;  ///< doubles per wall contact (a law's one-coefficient form: one more than per pair)
 
     // ---- wall data: particles near wall w are wallParticle[wallStart[w] .. wallStart[w+1]) ------
     std::vector<uint32_t> wallParticle;
-    std::vector<double> wallHistory;
+    std::vector<double> wallHistory;      ///< wallHistorySize doubles per entry
     std::vector<std::size_t> wallStart;
 
     long builds() const { return builds_; }
@@ -76,7 +83,10 @@ public:
 
     /// Exact state for restart files (pairs in order, histories, slabs, reference positions), so a
     /// restarted run continues bitwise-identically without rebuilding.
-    void write(std::ostream& os) const;
+    /// Restart section. omittedSlot >= 0: the pairs' histories are written in the law's canonical
+    /// layout, one double more per pair with 0 at that slot (ContactLaw::omittedSlot); the wall
+    /// histories are stored in it already.
+    void write(std::ostream& os, int omittedSlot = -1) const;
     void read(std::istream& is, std::size_t nParticles, std::size_t nWalls);
 
 private:
@@ -86,6 +96,7 @@ private:
     bool valid_ = false;
     long builds_ = 0;
     std::vector<Vec3> x0_;            ///< positions at the last build
+    std::vector<uint32_t> runStart_;  ///< per particle: its first pair found from it at the last build (~0u: none)
     std::vector<Vec3> wallOffset0_;   ///< wall offsets at the last build
     /// ParticleData::radiusGrowth at the last build. Not in restart files: a list read from one does
     /// not know how much its skin the radii used before, so it is rebuilt as soon as radii grow
@@ -94,12 +105,13 @@ private:
     bool growthUnknown_ = false;
     // build scratch (released after each build)
     std::vector<uint32_t> cellStart_, cellList_;
-    std::vector<std::vector<uint32_t>> slabI_, slabJ_, slabK_;
+    std::vector<std::vector<uint32_t>> slabI_, slabJ_, slabK_;  ///< per slab: pairs per visited particle, partner, old pair
     std::vector<uint32_t> oldWallParticle_;
     std::vector<double> oldWallHistory_;
     std::vector<std::size_t> oldWallStart_;
 
-    void moveHistoryInPlace(std::vector<uint32_t>& src, std::size_t nOld, uint32_t none);
+    template <class Src>
+    void moveHistoryInPlace(Src& src, std::size_t nOld, uint32_t none);
 };
 
 } // namespace pdpm

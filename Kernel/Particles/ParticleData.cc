@@ -19,7 +19,6 @@ std::size_t ParticleData::add(const Vec3& pos, double radius, double density, in
     r.push_back(radius);
     m.push_back(0.0);
     invM.push_back(0.0);
-    invI.push_back(0.0);
     species.push_back(speciesIndex);
     fixed.push_back(isFixed ? 1 : 0);
     const std::size_t i = x.size() - 1;
@@ -32,29 +31,27 @@ void ParticleData::setRadius(std::size_t i, double radius, double density) {
     m[i] = sphereMass(radius, density);
     const bool isFixed = fixed[i] != 0;
     invM[i] = isFixed ? 0.0 : 1.0 / m[i];
-    invI[i] = isFixed ? 0.0 : 1.0 / (0.4 * m[i] * radius * radius);
 }
 
 void ParticleData::setFixed(std::size_t i, bool isFixed) {
     fixed[i] = isFixed ? 1 : 0;
     invM[i] = isFixed ? 0.0 : 1.0 / m[i];
-    invI[i] = isFixed ? 0.0 : 1.0 / (0.4 * m[i] * r[i] * r[i]);
     if (isFixed) { v[i] = {}; w[i] = {}; }
 }
 
 void ParticleData::clear() {
     x.clear(); v.clear(); w.clear(); f.clear(); t.clear();
-    r.clear(); m.clear(); invM.clear(); invI.clear(); species.clear(); fixed.clear();
+    r.clear(); m.clear(); invM.clear(); species.clear(); fixed.clear();
     radiusGrowth = 0;
 }
 
 void ParticleData::reserve(std::size_t n) {
     x.reserve(n); v.reserve(n); w.reserve(n); f.reserve(n); t.reserve(n);
-    r.reserve(n); m.reserve(n); invM.reserve(n); invI.reserve(n); species.reserve(n); fixed.reserve(n);
+    r.reserve(n); m.reserve(n); invM.reserve(n); species.reserve(n); fixed.reserve(n);
 }
 
 std::size_t ParticleData::bytes() const {
-    return 5 * x.capacity() * sizeof(Vec3) + 4 * r.capacity() * sizeof(double) +
+    return 5 * x.capacity() * sizeof(Vec3) + 3 * r.capacity() * sizeof(double) +
            species.capacity() * sizeof(int32_t) + fixed.capacity();
 }
 

@@ -58,11 +58,19 @@ public:
     }
     long stepsWanted() const { return steps_; }
     void setUp() { setupInitialConditions(); }
+    /// Friction coefficients of the grains (default mu_s 0.5, mu_d 0.4); with `unusedSpecies`, a second
+    /// species that no particle has, with mu_s 0.6 != mu_d 0.5 (the law then keeps its sliding flag).
+    void setFriction(double muS, double muD, bool unusedSpecies) {
+        muS_ = muS;
+        muD_ = muD;
+        unusedSpecies_ = unusedSpecies;
+    }
 
 protected:
     void setupInitialConditions() override {
-        const ContactParameters p = grainContact(0.5, 0.5, 0.4, 0.5);
+        const ContactParameters p = grainContact(0.5, muS_, muD_, 0.5);
         addSpecies("grain", kDensity, p);
+        if (unusedSpecies_) addSpecies("unused", kDensity, grainContact(0.5, 0.6, 0.5, 0.5));
         const double s = 2 * kR;
         const Vec3 hi{n_[0] * s, n_[1] * s, n_[2] * s};
         setDomain({0, 0, 0}, hi, true, !walls_, !walls_);
@@ -110,6 +118,8 @@ private:
     }
     int n_[3];
     bool walls_, deform_;
+    double muS_ = 0.5, muD_ = 0.4;
+    bool unusedSpecies_ = false;
     long steps_ = 0;
     BoxController ctrl_;
 };
@@ -484,4 +494,128 @@ TEST(KernelRestart, DeformingBoxRestartsAndThreadsBitwise) {
     omp_set_num_threads(saved);
     EXPECT_EQ(countDifferences(straight.particles(), two.particles()), 0) << "threads";
     std::filesystem::remove_all(dir);
+}
+
+// Friction with mu_s = mu_d: the law runs in its one-coefficient form, without the sliding flag in
+// the history (ContactLaw::specialised). The flag only selects between the two coefficients, so the
+// forces must be the same bits as the flagged form's, which a species table with one pair of unequal
+// coefficients (on a species no particle has) keeps in use.
+TEST(FrictionForm, OneCoefficientFormIsBitwiseTheFlaggedOne) {
+    const std::string dir = "FrictionFormTest";
+    std::filesystem::remove_all(dir);
+    const std::vector<std::string> args = {"--output", dir, "--quiet", "--threads", "1", "--steps", "400",
+                                           "--restart_output", "0", "--ene", "0"};
+    PackingDriver one(8, 6, 6, true);
+    one.setFriction(0.5, 0.5, false);
+    ASSERT_EQ(runWith(one, args), 0);
+    PackingDriver flagged(8, 6, 6, true);
+    flagged.setFriction(0.5, 0.5, true);
+    ASSERT_EQ(runWith(flagged, args), 0);
+    EXPECT_EQ(one.contactLaw().historySize(), 3);
+    EXPECT_EQ(one.contactLaw().omittedSlot(), 3);
+    EXPECT_EQ(one.contactLaw().canonicalHistorySize(), 4);
+    EXPECT_EQ(one.neighbourList().historySize, 3);
+    EXPECT_EQ(one.neighbourList().wallHistorySize, 4);  // walls keep the flagged layout
+    EXPECT_EQ(flagged.contactLaw().historySize(), 4);
+    EXPECT_EQ(flagged.neighbourList().historySize, 4);
+    EXPECT_EQ(one.contactLaw().name(), "linear");
+    const long sliding = frictionalContacts(one);
+    long capped = 0;
+    for (const auto& c : one.contacts()) capped += c.sliding ? 1 : 0;
+    std::printf("one-coefficient form: %ld frictional contacts, %ld sliding at the end\n", sliding, capped);
+    EXPECT_GT(sliding, 50);
+    EXPECT_EQ(countDifferences(one.particles(), flagged.particles()), 0);
+    std::filesystem::remove_all(dir);
+}
+
+// Restart files hold the canonical layout (the flag slot written as 0): the file names the law with
+// 4 doubles per contact whichever form ran, and a resumed run is bitwise the straight one.
+TEST(FrictionForm, RestartOfTheOneCoefficientFormIsBitwise) {
+    const std::string dir = "FrictionFormRestartTest";
+    std::filesystem::remove_all(dir);
+    const long N = 300;
+    auto args = [&](const std::string& name, long steps, const std::string& restart) {
+        std::vector<std::string> a = {"--output", dir, "--quiet", "--threads", "1", "--name", name,
+                                      "--steps", std::to_string(steps)};
+        if (!restart.empty()) a.insert(a.end(), {"--restart", restart});
+        return a;
+    };
+    PackingDriver straight(8, 6, 6, true);
+    straight.setFriction(0.5, 0.5, false);
+    ASSERT_EQ(runWith(straight, args("straight", 2 * N, "")), 0);
+    PackingDriver first(8, 6, 6, true);
+    first.setFriction(0.5, 0.5, false);
+    ASSERT_EQ(runWith(first, args("half", N, "")), 0);
+    std::ifstream in(dir + "/half.restart");
+    std::string line, lawLine, neighbourLine;
+    while (std::getline(in, line)) {
+        if (line.rfind("law ", 0) == 0) lawLine = line;
+        if (line.rfind("neighbours ", 0) == 0) neighbourLine = line;
+    }
+    EXPECT_EQ(lawLine, "law linear 4");
+    std::istringstream nl(neighbourLine);
+    std::string tag, skin, used;
+    int written = 0;
+    nl >> tag >> skin >> used >> written;
+    EXPECT_EQ(written, 4);
+    PackingDriver second(8, 6, 6, true);
+    ASSERT_EQ(runWith(second, args("resumed", 2 * N, dir + "/half.restart")), 0);
+    EXPECT_EQ(second.contactLaw().historySize(), 3);
+    EXPECT_EQ(countDifferences(straight.particles(), second.particles()), 0);
+    std::filesystem::remove_all(dir);
+}
+
+namespace {
+/// The packing with mu_s = mu_d = 0.5, whose driver sets mu_d = 0.4 at step 100 and back to 0.5 at
+/// step 200 (pairMutable, as a driver changing a material mid-run does): the law takes its flagged
+/// form and back; histSizes records the neighbour list's history size after each step.
+class FrictionChange : public PackingDriver {
+public:
+    FrictionChange() : PackingDriver(8, 6, 6, true) { setFriction(0.5, 0.5, false); }
+    std::vector<int> histSizes;
+
+protected:
+    void actionsBeforeTimeStep() override {
+        PackingDriver::actionsBeforeTimeStep();
+        if (step() == 100) species().pairMutable(0, 0).muD = 0.4;
+        if (step() == 200) species().pairMutable(0, 0).muD = 0.5;
+    }
+    void actionsAfterTimeStep() override { histSizes.push_back(neighbourList().historySize); }
+};
+} // namespace
+
+TEST(FrictionForm, SwitchesFormWhenTheCoefficientsChange) {
+    const std::string dir = "FrictionFormSwitchTest";
+    std::filesystem::remove_all(dir);
+    FrictionChange d;
+    ASSERT_EQ(runWith(d, {"--output", dir, "--quiet", "--threads", "1", "--steps", "300", "--restart_output", "0",
+                          "--ene", "0"}),
+              0);
+    ASSERT_EQ(d.histSizes.size(), 300u);
+    EXPECT_EQ(d.histSizes[99], 3);   // step 100 done in the one-coefficient form
+    EXPECT_EQ(d.histSizes[100], 4);  // mu_d changed before step 101
+    EXPECT_EQ(d.histSizes[199], 4);
+    EXPECT_EQ(d.histSizes[200], 3);  // and back
+    EXPECT_EQ(d.contactLaw().historySize(), 3);
+    for (const Vec3& v : d.particles().v) ASSERT_TRUE(std::isfinite(v.x + v.y + v.z));
+    std::filesystem::remove_all(dir);
+}
+
+// The layout change itself: a slot dropped from, and a zero slot put into, every pair's history;
+// the wall contacts keep theirs.
+TEST(FrictionForm, NeighbourListChangesHistoryLayout) {
+    NeighbourList nl;
+    nl.historySize = nl.wallHistorySize = 4;
+    nl.history = {1, 2, 3, 9, 5, 6, 7, 8};
+    nl.wallHistory = {11, 12, 13, 14};
+    nl.removeHistorySlot(3);
+    EXPECT_EQ(nl.historySize, 3);
+    EXPECT_EQ(nl.history, (std::vector<double>{1, 2, 3, 5, 6, 7}));
+    nl.insertHistorySlot(1);
+    EXPECT_EQ(nl.historySize, 4);
+    EXPECT_EQ(nl.history, (std::vector<double>{1, 0, 2, 3, 5, 0, 6, 7}));
+    nl.removeHistorySlot(7);  // out of range: unchanged
+    EXPECT_EQ(nl.historySize, 4);
+    EXPECT_EQ(nl.wallHistorySize, 4);
+    EXPECT_EQ(nl.wallHistory, (std::vector<double>{11, 12, 13, 14}));
 }
