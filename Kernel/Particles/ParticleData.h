@@ -34,7 +34,6 @@ struct ParticleData {
     /// 1/I of a free solid sphere, I = 2/5 m r^2 (0 for a fixed particle). Not stored: computed from m and
     /// r where needed (8 B per particle less), with the same expression as before, so the same bits.
     static double inverseInertia(double mass, double radius) { return 1.0 / (0.4 * mass * radius * radius); }
-    double invI(std::size_t i) const { return fixed[i] ? 0.0 : inverseInertia(m[i], r[i]); }
     /// Recompute mass and inverse mass of particle i from radius and density.
     void setRadius(std::size_t i, double radius, double density);
     void setFixed(std::size_t i, bool isFixed);
