@@ -254,7 +254,7 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         particles_.f[k] = f;
         particles_.t[k] = t;
     }
-    neighbours_.read(is, n, nw);
+    neighbours_.read(is, n, nw, hsize);
     std::size_t nkv = 0;
     expect(is, "driver", path);
     is >> nkv;

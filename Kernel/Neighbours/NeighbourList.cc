@@ -102,7 +102,7 @@ void NeighbourList::write(std::ostream& os, int omittedSlot) const {
     writeVec(os, "wallOffset0", wallOffset0_);
 }
 
-void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t nWalls) {
+void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t nWalls, int lawHistorySize) {
     std::string tag;
     std::size_t nPhases = 0;
     is >> tag;
@@ -112,6 +112,12 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     wallHistorySize = historySize;  // files hold the canonical layout, pairs and walls alike
     runStart_.clear();              // not in the file: the next build indexes the old pairs instead
     if (!is || tag != "neighbours" || nPhases > 3) inputError("restart: malformed neighbour header");
+    // A file edited consistently (H and every history array rewritten, checksum resealed) would pass the
+    // size checks below, and the pair loops, which step through the histories by the law's H, would
+    // read past them.
+    if (historySize != lawHistorySize)
+        inputError("restart: neighbour-list history size " + std::to_string(historySize) + " differs from the contact law's " +
+                   std::to_string(lawHistorySize) + " doubles per contact");
     phases.assign(nPhases, {});
     for (auto& ph : phases) {
         std::size_t k = 0;

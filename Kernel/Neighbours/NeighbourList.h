@@ -87,7 +87,9 @@ public:
     /// layout, one double more per pair with 0 at that slot (ContactLaw::omittedSlot); the wall
     /// histories are stored in it already.
     void write(std::ostream& os, int omittedSlot = -1) const;
-    void read(std::istream& is, std::size_t nParticles, std::size_t nWalls);
+    /// Reads the section written by write(); historySize must equal lawHistorySize, the doubles per
+    /// contact of the law line of the same file (the pair loops index the histories with the law's H).
+    void read(std::istream& is, std::size_t nParticles, std::size_t nWalls, int lawHistorySize);
 
 private:
     void countPhasePairs();

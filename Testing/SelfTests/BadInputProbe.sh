@@ -143,6 +143,16 @@ resealed skin_nan 's/^neighbours [^ ]* /neighbours nan /'
 expect_refused 'inconsistent neighbour' --restart skin_nan.restart
 resealed x0_nan '/^x0 /{n;s/^[^ ]*/nan/}'
 expect_refused 'inconsistent neighbour' --restart x0_nan.restart
+# the neighbour section's history size edited together with its history arrays (sizes consistent
+# with each other, not with the law line's 4 doubles per contact): the pair loops would read past
+# (2 per pair) or misread (5 per pair) the histories
+grep -q '^law linear 4$' out/good.restart || fail "good.restart does not name 'law linear 4'"
+resealed history_two 's/^\(neighbours [^ ]* [^ ]*\) 4 /\1 2 /; /^history 4$/{N;s/^history 4\n\([^ ]*\) \([^ ]*\) .*$/history 2\n\1 \2/}'
+grep -q '^history 2$' history_two.restart || fail "history_two.restart: the history array was not rewritten"
+expect_refused 'history size 2 differs' --restart history_two.restart --time_max 0.004
+resealed history_five 's/^\(neighbours [^ ]* [^ ]*\) 4 /\1 5 /; /^history 4$/{N;s/^history 4\n\(.*\)$/history 5\n\1 0/}'
+grep -q '^history 5$' history_five.restart || fail "history_five.restart: the history array was not rewritten"
+expect_refused 'history size 5 differs' --restart history_five.restart --time_max 0.004
 resealed velocity_inf '/^particles /{n;s/^\([^ ]* [^ ]* [^ ]*\) [^ ]*/\1 inf/}'
 expect_refused 'particle record 0' --restart velocity_inf.restart
 resealed fixed_two '/^particles /{n;s/ [01]$/ 2/}'
