@@ -248,6 +248,8 @@ protected:
         }
     }
     void loadDriverState(const std::vector<std::pair<std::string, std::string>>& kv) override {
+        state_.requireAll(kv);
+        requireDriverKeys(kv, {"recColumns"});
         rec_ = recording::Recording{};
         holds_.clear();
         for (const auto& [k, v] : kv) {

@@ -90,7 +90,13 @@ protected:
         const double meanR3 = (std::pow(rMax, 4) - std::pow(rMin, 4)) / (4 * (rMax - rMin));
         const double vp = 4.0 / 3.0 * std::numbers::pi * meanR3;
         const double a = cylinder() ? std::numbers::pi * R * R : lx * lx;
-        const auto n = static_cast<std::size_t>(std::ceil(1.15 * 0.55 * a * H / vp));
+        const double count = std::ceil(1.15 * 0.55 * a * H / vp);
+        // (a cast of a count beyond size_t, or of NaN, is undefined: check it as a double first)
+        if (!(count <= 1e9))
+            inputError((std::isnan(count) ? std::string("the bed's particle count is not a number")
+                                          : "the bed would need " + fmt(count) + " particles (more than 1e9)") +
+                       ": check width/diameter, fill_height(_m) and d_mean");
+        const auto n = static_cast<std::size_t>(count);
         auto radii = uniformRadii(n, rMin, rMax, random());
 
         // ---- fill: grid in a tall column, settle under gravity ------------------------------------

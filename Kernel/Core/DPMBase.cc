@@ -266,6 +266,20 @@ void DPMBase::prepare(bool freshStart) {
     prepared_ = true;
 }
 
+void DPMBase::advanceNextOutput(double every) {
+    const double now = time_ + 0.5 * dt_;
+    for (int k = 0; nextOutput_ <= now; ++k) {
+        const double next = nextOutput_ + every;
+        // An interval far below the step, or below the clock's resolution at this time (where adding
+        // it changes nothing): output every step from now on, as such an interval asks.
+        if (k == 64 || !(next > nextOutput_)) {
+            nextOutput_ = time_ + dt_;
+            return;
+        }
+        nextOutput_ = next;
+    }
+}
+
 double DPMBase::outputInterval() const {
     if (saveEvery_ > 0) return saveEvery_;
     return std::max(timeMax_ - time_, dt_) / 100;
@@ -308,7 +322,7 @@ void DPMBase::solve() {
         lastWasOutput = false;
         if (time_ >= nextOutput_ - 0.5 * dt_) {
             // advance first, so that a restart written now continues the same output schedule
-            while (nextOutput_ <= time_ + 0.5 * dt_) nextOutput_ += every;
+            advanceNextOutput(every);
             writeOutputFiles();
             lastWasOutput = true;
         }

@@ -206,6 +206,9 @@ private:
     void writeFstat();
     void finishFiles();
     double outputInterval() const;
+    /// Moves the next output time past the current step by whole intervals (at most 64; beyond, or
+    /// when the interval is below the clock's resolution, to the next step).
+    void advanceNextOutput(double every);
     bool outputNeedsContacts() const;
 
     std::string name_, description_;

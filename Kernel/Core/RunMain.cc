@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <stdexcept>
 #include <iostream>
 #include <string>
 
@@ -44,6 +45,10 @@ int runMain(const char* programName, const std::function<int()>& body) {
     } catch (const std::bad_alloc&) {
         // sizes come from the input (particle counts, grids, file headers): too large for this machine
         report(programName, "out of memory: the input asks for more memory than this machine has");
+        return kExitBadInput;
+    } catch (const std::length_error&) {
+        // a size computed from the input beyond what any container can hold
+        report(programName, "out of memory: the input asks for a container larger than any this machine can hold");
         return kExitBadInput;
     } catch (const std::exception& e) {
         report(programName, e.what());

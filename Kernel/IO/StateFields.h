@@ -65,6 +65,10 @@ public:
         return false;
     }
 
+    /// Every bound field must be in `kv` (a file edited after it was sealed could drop one, and the
+    /// member would keep whatever the driver's set-up left in it).
+    void requireAll(const KeyValues& kv) const;
+
 private:
     struct Field {
         std::string name;
@@ -72,6 +76,22 @@ private:
     };
     std::vector<Field> fields_;
 };
+
+/// An input error naming the first of `keys` that `kv` lacks (the keys a driver's saveDriverState
+/// always writes).
+inline void requireDriverKeys(const StateFields::KeyValues& kv, const std::vector<std::string>& keys) {
+    for (const auto& key : keys) {
+        bool found = false;
+        for (const auto& [k, v] : kv) found = found || k == key;
+        if (!found) inputError("restart file: the driver state lacks '" + key + "' (file edited or written by another driver)");
+    }
+}
+
+inline void StateFields::requireAll(const KeyValues& kv) const {
+    std::vector<std::string> names;
+    for (const auto& f : fields_) names.push_back(f.name);
+    requireDriverKeys(kv, names);
+}
 
 /// Numbers separated by single spaces (fmt), "-" for none; splitNumbers() reads them back and
 /// names `key` in the message on a malformed number.

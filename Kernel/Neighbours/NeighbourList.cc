@@ -140,7 +140,13 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     bool ok = pairJ.size() == np && history.size() == np * historySize && !slabStart.empty() &&
               slabStart.back() == np && x0_.size() == nParticles && wallStart.size() == nWalls + 1 &&
               wallHistory.size() == wallParticle.size() * historySize && wallStart.back() == wallParticle.size();
-    for (std::size_t k = 0; ok && k < np; ++k) ok = pairI[k] < nParticles && pairJ[k] < nParticles;
+    // slab starts from 0 up to the pair count, never decreasing (a slab's pairs are slabStart[s] ..
+    // slabStart[s + 1]; the threads' shares and the rebuild's history moves rely on it)
+    ok = ok && slabStart.front() == 0;
+    for (std::size_t s = 1; ok && s < slabStart.size(); ++s) ok = slabStart[s - 1] <= slabStart[s];
+    for (std::size_t w = 1; ok && w < wallStart.size(); ++w) ok = wallStart[w - 1] <= wallStart[w];
+    ok = ok && wallStart.front() == 0;
+    for (std::size_t k = 0; ok && k < np; ++k) ok = pairI[k] < pairJ[k] && pairJ[k] < nParticles;  // the builder writes (min, max)
     for (std::size_t k = 0; ok && k < wallParticle.size(); ++k) ok = wallParticle[k] < nParticles;
     for (const auto& ph : phases)
         for (int s : ph) ok = ok && s >= 0 && s + 1 < static_cast<int>(slabStart.size());

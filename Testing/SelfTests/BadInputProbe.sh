@@ -153,6 +153,9 @@ expect_refused 'history size 2 differs' --restart history_two.restart --time_max
 resealed history_five 's/^\(neighbours [^ ]* [^ ]*\) 4 /\1 5 /; /^history 4$/{N;s/^history 4\n\(.*\)$/history 5\n\1 0/}'
 grep -q '^history 5$' history_five.restart || fail "history_five.restart: the history array was not rewritten"
 expect_refused 'history size 5 differs' --restart history_five.restart --time_max 0.004
+# slab starts that do not begin at 0 (the first slab's pairs would be skipped and a later one's read twice)
+resealed slab_start_one '/^slabStart 2$/{n;s/^0 /1 /}'
+expect_refused 'inconsistent neighbour' --restart slab_start_one.restart --time_max 0.004
 resealed velocity_inf '/^particles /{n;s/^\([^ ]* [^ ]* [^ ]*\) [^ ]*/\1 inf/}'
 expect_refused 'particle record 0' --restart velocity_inf.restart
 resealed fixed_two '/^particles /{n;s/ [01]$/ 2/}'

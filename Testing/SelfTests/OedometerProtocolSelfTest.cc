@@ -42,6 +42,25 @@ int main() {
                                              "--steps", "ramp:5e-5:4000,unload:5e-5:1000,ramp:5e-5:4000,creep:200",
                                              "--relax_C", "0.0792", "--relax_t0", "0.2894", "--quiet", "--threads", "1"};
     double demEnd = 0;
+    // Beds too large to be made, and an output interval below the clock's resolution: one error line
+    // (exit code 2) or a normal run, never a crash (the particle count was cast from a double beyond
+    // size_t) or an endless loop (the next output time never moved).
+    for (const char* huge : {"--width", "--fill_height"}) {
+        OedometerRelaxation d;
+        ok &= check(oedometer_selftest::runDriver(d, {huge, "1e10", "--quiet", "--threads", "1"}) == 2,
+                    std::string(huge) + " 1e10 is refused (exit code 2)");
+    }
+    {
+        OedometerRelaxation d;
+        ok &= check(oedometer_selftest::runDriver(d, {"--d_mean", "1e300", "--quiet", "--threads", "1"}) == 2,
+                    "--d_mean 1e300 is refused (exit code 2)");
+    }
+    {
+        OedometerRelaxation d;
+        ok &= check(oedometer_selftest::runDriver(d, {"--width", "3", "--fill_height", "2", "--save_every", "1e-300", "--time_max", "2e-4",
+                                                      "--name", "tiny_interval", "--quiet", "--threads", "1"}) == 0,
+                    "--save_every 1e-300 runs (an output every step)");
+    }
     {
         OedometerRelaxation d;
         auto args = common;
@@ -94,6 +113,20 @@ int main() {
             OedometerRelaxation e;
             ok &= check(oedometer_selftest::runDriver(e, {"--restart", "edited.restart", "--name", "edited", "--quiet"}) == 2,
                         "a restart with " + key + " '" + bad + "' is refused (exit code 2)");
+        }
+        {
+            // a key of the driver state renamed (the section's line count still holds): the missing
+            // field is refused, not left at the value the driver's set-up gave it
+            std::string renamed = half;
+            const std::size_t at = renamed.find("\nlabTime ");
+            ok &= check(at != std::string::npos, "part.restart holds labTime");
+            if (at != std::string::npos) {
+                renamed.replace(at, 9, "\nlabClock ");
+                writeWholeFile("renamed.restart", resealRestartText(renamed));
+                OedometerRelaxation e;
+                ok &= check(oedometer_selftest::runDriver(e, {"--restart", "renamed.restart", "--name", "renamed", "--quiet"}) == 2,
+                            "a restart without labTime is refused (exit code 2)");
+            }
         }
         OedometerRelaxation b;
         ok &= check(oedometer_selftest::runDriver(b, {"--restart", "part.restart", "--name", "part", "--time_max", "1e30", "--quiet"}) == 0,

@@ -79,8 +79,13 @@ expect2 "polar huge contact count" "$POLAR" --input "$work/hugecount.fstat" --pl
 # a run whose blocks all lack contacts: the error line only, no note before it
 printf '# time 0 step 0 contacts 0\n# box 0 1 0 1 0 1 periodic 0 0 0\n' > "$work/nocontacts.fstat"
 expect2 "polar no contacts"    "$POLAR" --input "$work/nocontacts.fstat" --plot none --output "$work/p"
+printf '# time 0 step 0 contacts 1\n# box 0 1 0 1 0 1 periodic 2 0 0\n0 1 0.5 0.5 0.5 0.01 0 0 1 1 0 0 0 0 0 0.1 0\n' > "$work/periodic2.fstat"
+expect2 "polar periodic flag 2" "$POLAR" --input "$work/periodic2.fstat" --plot none --output "$work/p"
 printf 'tau,p_nd,eps_dev\n0.1,1,0\n0.2,1,0.01\n' > "$work/short.macro.csv"
 expect2 "fit steady too short" "$FIT" steady "$work/short.macro.csv"
+printf 'tau,p_nd,volume_fraction,C_star\n0.1,1,0.6,6\n0.2,1,-0.6,6\n' > "$work/negv.macro.csv"
+expect2 "fit volume fraction negative" "$FIT" cstar "$work/negv.macro.csv"
+says "fit volume fraction negative" 'volume_fraction .* outside \(0, 1\)'
 # pdpm-cg-benchmark: arguments checked, --help
 expect2 "bench negative N"     "$BENCH" -5
 expect2 "bench zero grid"      "$BENCH" 100 0 1
@@ -107,6 +112,13 @@ fi
 sed 's/timestep="0"/timestep="nan"/' "$work/ex/column.pvd" > "$work/ex/nan.pvd"
 expect2 "cg pvd timestep nan"  "$CG" --input "$work/ex/nan.pvd" --nz 5 --output "$work/o"
 says "cg pvd timestep nan" 'timestep "nan" is not a finite number'
+# a collection cut short, or one listing a data set without its file: refused, not read in part
+head -n 4 "$work/ex/column.pvd" > "$work/ex/cut.pvd"
+expect2 "cg pvd cut short"     "$CG" --input "$work/ex/cut.pvd" --nz 5 --output "$work/o"
+says "cg pvd cut short" 'truncated collection'
+sed '0,/ file="[^"]*"/s// file=""/' "$work/ex/column.pvd" > "$work/ex/nofile.pvd"
+expect2 "cg pvd data set without file" "$CG" --input "$work/ex/nofile.pvd" --nz 5 --output "$work/o"
+says "cg pvd data set without file" 'without a file attribute'
 LC_ALL=C sed 's/Name="time"/Name="tyme"/' "$vtu" > "$work/ex/notime.vtu"
 expect2 "cg vtu without time"  "$CG" --input "$work/ex/notime.vtu" --nz 5 --output "$work/o"
 says "cg vtu without time" "field data 'time' missing \\(not a PowderDPM particle file"
@@ -114,8 +126,13 @@ says "cg vtu without time" "field data 'time' missing \\(not a PowderDPM particl
 mkdir -p "$work/od/cg.csv" "$work/ov/cg.vti" "$work/ob/polar_bins.csv" "$work/os/polar_series.csv" "$work/oe/column.pvd"
 expect2 "cg csv blocked"       "$CG" --input "$vtu" --nz 5 --output "$work/od"
 expect2 "cg vti blocked"       "$CG" --input "$vtu" --nz 5 --output "$work/ov" --format vti
-expect2 "cg vti no directory"  "$CG" --input "$vtu" --nz 5 --output "$work/ov" --name a/b --format vti
-says "cg vti no directory" 'open'
+# output names that would leave the output directory or end a quoted name in a gnuplot script
+expect2 "cg name with a slash" "$CG" --input "$vtu" --nz 5 --output "$work/ov" --name a/b --format vti
+says "cg name with a slash" 'not a plain file name'
+expect2 "cg name escapes"      "$CG" --input "$vtu" --nz 5 --output "$work/ov/x/y" --name ../../escape
+[ -e "$work/ov/escape.csv" ] && { echo "FAIL: cg --name ../../escape wrote outside --output"; fail=1; }
+expect2 "cg name dot-dot"      "$CG" --input "$vtu" --nz 5 --output "$work/ov" --name ..
+expect2 "polar name quote"     "$POLAR" --input "$work/good.fstat" --plot none --output "$work/p" --name "a'b"
 expect2 "polar bins blocked"   "$POLAR" --input "$work/good.fstat" --plot none --output "$work/ob"
 expect2 "polar series blocked" "$POLAR" --input "$work/good.fstat" --plot none --output "$work/os"
 expect2 "example pvd blocked"  "$EXAMPLE" --output "$work/oe"

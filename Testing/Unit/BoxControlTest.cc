@@ -265,6 +265,15 @@ TEST(BoxControl, SaveLoadRoundTripAndBadInput) {
     EXPECT_THROW(edited("box_2_l0", "-1"), InputError);
     EXPECT_THROW(edited("box_0_mass", "0"), InputError);
     EXPECT_THROW(edited("box_1_rate", "nan"), InputError);
+    // every value save() writes must be there: a line dropped from an edited file is refused, not
+    // left at the new controller's default
+    for (const char* key : {"box_1_rate", "box_2_mode", "box_0_velocity", "box_swelling", "box_ref"}) {
+        auto e = kv;
+        std::erase_if(e, [&](const auto& p) { return p.first == key; });
+        ASSERT_EQ(e.size() + 1, kv.size()) << key;
+        BoxController b;
+        EXPECT_THROW(b.load(e), InputError) << key;
+    }
 }
 
 // Scaling all three axes in one pass gives bitwise the positions of three one-axis steps to the

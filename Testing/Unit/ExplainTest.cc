@@ -39,6 +39,17 @@ ExplainResult runCase(const CaseSpec& s, GeneratedCase* out = nullptr) {
 }
 } // namespace
 
+// The generator's kinds: a two-mechanism case names two different mechanisms with one '+', an
+// out-of-library case names its effect; anything else is refused instead of making a case whose truth
+// lists a mechanism twice or calls a null case "ool:".
+TEST(ExplainGenerator, RefusesMalformedKinds) {
+    for (const char* kind : {"two:plasticity", "two:plasticity+plasticity", "two:plasticity+cohesion+wall_friction", "two:+cohesion",
+                             "ool:", "ool:wave", "rolling_resistance", "nothing"})
+        EXPECT_THROW(generateCase({kind, 5, 0.5, 3, 200}), InputError) << kind;
+    for (const char* kind : {"null", "plasticity", "two:plasticity+cohesion", "ool:bump"})
+        EXPECT_NO_THROW(generateCase({kind, 5, 0.5, 3, 200})) << kind;
+}
+
 TEST(ExplainNoise, RecoversAr1SigmaAndRho) {
     for (double rho : {0.0, 0.5, 0.9}) {
         std::mt19937_64 g(7);
@@ -971,6 +982,11 @@ TEST(ExplainInput, BadInputsAreInputErrors) {
     const Recording r = readRecording(d + "/ok.csv", p);
     EXPECT_EQ(r.size(), 30u);
     EXPECT_THROW(checkConsistency(r, p), InputError);  // 5000 s protocol vs 29 s recording
+    // with a ramp of unknown duration, the holds alone may still not outlast the recording
+    writeWholeFile(d + "/rampHold.json", R"({"format":"pdpm-oedometer-protocol","version":1,"device":{"name":"x","diameter_m":0.05,"height_m":0.05},"steps":[{"type":"ramp","velocity_m_s":1e-5,"target_stress_Pa":2000},{"type":"hold_position","duration_s":1e300}]})");
+    EXPECT_THROW(checkConsistency(r, readProtocol(d + "/rampHold.json")), InputError);
+    writeWholeFile(d + "/rampShortHold.json", R"({"format":"pdpm-oedometer-protocol","version":1,"device":{"name":"x","diameter_m":0.05,"height_m":0.05},"steps":[{"type":"ramp","velocity_m_s":1e-5,"target_stress_Pa":2000},{"type":"hold_position","duration_s":10}]})");
+    EXPECT_NO_THROW(checkConsistency(r, readProtocol(d + "/rampShortHold.json")));
     // a stress far beyond any powder test (its square overflows) is refused, not fitted
     std::string csv3 = csv2;
     csv3.replace(csv3.find(",500\n"), 5, ",1e300\n");

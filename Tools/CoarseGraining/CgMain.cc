@@ -51,7 +51,7 @@ int run(int argc, char** argv) {
     if (!cli.parse(argc, argv, std::cout)) return 0;
     if (inputs.empty()) inputError("--input: no input files given");
     requireNonEmpty("output", output);
-    requireNonEmpty("name", name);
+    requireFileName("name", name);
     if (threads > 0) omp_set_num_threads(threads);
 
     CgConfig cfg;

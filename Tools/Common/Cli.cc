@@ -217,4 +217,11 @@ void requireNonEmpty(const std::string& flag, const std::string& value) {
     if (value.empty()) inputError(flagText(flag) + ": must not be empty");
 }
 
+void requireFileName(const std::string& flag, const std::string& value) {
+    requireNonEmpty(flag, value);
+    bool plain = value != "." && value != "..";
+    for (unsigned char c : value) plain = plain && c >= 0x20 && c != 0x7f && c != '/' && c != '\'' && c != '"' && c != '`';
+    if (!plain) inputError(flagText(flag) + ": '" + value + "' is not a plain file name (no '/', quotes or control characters; not '.' or '..')");
+}
+
 } // namespace pdpm::tools

@@ -58,5 +58,9 @@ std::vector<double> parseNumberList(const std::string& flag, const std::string& 
 
 /// InputError "--flag: must not be empty" for an empty value (output directories, file names).
 void requireNonEmpty(const std::string& flag, const std::string& value);
+/// A base name of output files (written as OUTPUT/NAME...): non-empty, not '.' or '..', and without
+/// '/', quotes or control characters (it would leave the output directory, or end a quoted name in
+/// the gnuplot script).
+void requireFileName(const std::string& flag, const std::string& value);
 
 } // namespace pdpm::tools

@@ -344,7 +344,11 @@ std::vector<std::string> readPvd(const std::string& path) {
     std::stringstream ss;
     ss << in.rdbuf();
     const std::string text = ss.str();
-    if (text.find("Collection") == std::string::npos) inputError(path + ": not a VTK collection (.pvd) file");
+    static const std::regex header(R"re(<VTKFile\b[^>]*\btype\s*=\s*"Collection")re");
+    if (!std::regex_search(text, header)) inputError(path + ": not a VTK collection (.pvd) file (no <VTKFile type=\"Collection\">)");
+    // a collection cut short (a run killed while it was written by another program) lists only part of the run
+    if (text.find("</Collection>") == std::string::npos || text.find("</VTKFile>") == std::string::npos)
+        inputError(path + ": truncated collection (no </Collection> or </VTKFile>)");
     std::vector<std::string> files;
     static const std::regex dataSet(R"re(<DataSet\b[^>]*>)re");
     static const std::regex fileAttr(R"re(\bfile\s*=\s*"([^"]*)")re");
@@ -363,7 +367,7 @@ std::vector<std::string> readPvd(const std::string& path) {
             double t = 0;
             if (!parseStrictDouble(ts, t)) inputError(path + ": DataSet timestep \"" + ts + "\" is not a finite number");
         }
-        if (!std::regex_search(tag, m, fileAttr)) continue;
+        if (!std::regex_search(tag, m, fileAttr) || m[1].str().empty()) inputError(path + ": a DataSet without a file attribute: " + tag);
         fs::path f = m[1].str();
         if (f.is_relative()) f = dir / f;
         files.push_back(f.string());
@@ -414,8 +418,8 @@ std::vector<ContactSnapshot> readFstat(const std::string& path) {
                 double v[6];
                 int p[3];
                 if (!(ls >> v[0] >> v[1] >> v[2] >> v[3] >> v[4] >> v[5] >> kPer >> p[0] >> p[1] >> p[2]) ||
-                    kPer != "periodic")
-                    inputError(where() + "malformed box line, expected '# box xlo xhi ylo yhi zlo zhi periodic px py pz'");
+                    kPer != "periodic" || (p[0] != 0 && p[0] != 1) || (p[1] != 0 && p[1] != 1) || (p[2] != 0 && p[2] != 1))
+                    inputError(where() + "malformed box line, expected '# box xlo xhi ylo yhi zlo zhi periodic px py pz' (px py pz 0 or 1)");
                 for (int a = 0; a < 3; ++a) {
                     b.boxLo[a] = v[2 * a];
                     b.boxHi[a] = v[2 * a + 1];

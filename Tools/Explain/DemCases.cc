@@ -160,7 +160,7 @@ GeneratedCase generateDemCase(const DemCaseSpec& spec, const std::string& workDi
             cmd << " --relax_C " << fmt(value) << " --relax_t0 " << fmt(t0);
         if (!coh) cmd << " --kc_over_k 0";
         cmd << " --seed " << spec.seed << " --output " << shellQuote(workDir) << " --name " << name << " --threads "
-            << spec.threads << " --quiet --vtk 0 --ene 0 " << spec.driverArgs;
+            << spec.threads << " --quiet --vtk 0 --ene 0" << tools::shellWords(spec.driverArgs);
         const std::string base = workDir + "/" + name, log = base + ".log", stamp = base + ".command";
         const std::string stampText = cmd.str() + "\n" + driverId + "\n";
         const bool done = std::filesystem::exists(stamp) && readWholeFile(stamp) == stampText && std::filesystem::exists(base + ".recording.csv") &&

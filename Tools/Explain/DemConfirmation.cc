@@ -33,11 +33,6 @@ std::string defaultDemDriver() {
     return (self.parent_path() / "OedometerRelaxation").string();
 }
 
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
 
 namespace {
 /// The reason of a `not_supported` status.

@@ -101,6 +101,7 @@
 #include <vector>
 
 #include "Explain.h"
+#include "Shell.h"
 #include "IO/Json.h"
 
 namespace pdpm::recording {
@@ -318,8 +319,7 @@ struct DemResult {
 
 /// The OedometerRelaxation executable next to the running program ("OedometerRelaxation" if unknown).
 std::string defaultDemDriver();
-/// A word for /bin/sh: single-quoted, embedded quotes escaped.
-std::string shellQuote(const std::string& s);
+using tools::shellQuote;  // Common/Shell.h
 
 /// Whether a DEM confirmation exists for the mechanism (contact_relaxation, plasticity, wall_friction,
 /// stiffness_nonlinearity, cohesion, rate_dependence).

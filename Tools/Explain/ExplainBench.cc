@@ -62,11 +62,15 @@ GeneratedCase generateCase(const CaseSpec& spec) {
 
     std::vector<std::string> mechs;
     std::string ool;
+    const bool isOol = spec.kind.rfind("ool:", 0) == 0;
     if (spec.kind.rfind("two:", 0) == 0) {
         const std::string rest = spec.kind.substr(4);
         const auto plus = rest.find('+');
+        if (plus == std::string::npos || rest.find('+', plus + 1) != std::string::npos)
+            inputError("generator: kind '" + spec.kind + "' must name two mechanisms, two:A+B");
         mechs = {rest.substr(0, plus), rest.substr(plus + 1)};
-    } else if (spec.kind.rfind("ool:", 0) == 0) {
+        if (mechs[0] == mechs[1]) inputError("generator: kind '" + spec.kind + "' names " + mechs[0] + " twice");
+    } else if (isOol) {
         ool = spec.kind.substr(4);
     } else if (spec.kind != "null") {
         mechs = {spec.kind};
@@ -74,7 +78,7 @@ GeneratedCase generateCase(const CaseSpec& spec) {
     for (const auto& m : mechs)
         if (compFromName(m) < 0 || !isMechanism(compFromName(m)) || compFromName(m) == kRolling)
             inputError("generator: unknown or untestable mechanism '" + m + "'");
-    if (!ool.empty() && ool != "bump" && ool != "sine") inputError("generator: unknown out-of-library effect '" + ool + "'");
+    if (isOol && ool != "bump" && ool != "sine") inputError("generator: unknown out-of-library effect '" + ool + "' (bump or sine)");
     const bool hasCoh = std::find(mechs.begin(), mechs.end(), "cohesion") != mechs.end();
 
     // true baseline

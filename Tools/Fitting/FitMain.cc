@@ -24,6 +24,7 @@
 #include "Fitting.h"
 #include "IO/AtomicFile.h"
 #include "IO/Csv.h"
+#include "Shell.h"
 
 using namespace pdpm;
 
@@ -143,12 +144,7 @@ Jammed jammedRows(const CsvTable& t, BranchSelect b) {
 }
 
 std::string gnuplotQuote(const std::string& s) { return "'" + s + "'"; }
-/// A path as one word for /bin/sh.
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using tools::shellQuote;
 
 int plot(const Args& a) {
     // Every input is read and checked before anything is written: gnuplot would plot a foreign or
@@ -324,6 +320,10 @@ int model(const Args& a) {
     std::vector<std::vector<double>> pred;
     for (const auto& [name, m] : models) {
         const auto ps = m.predictS(v, e, s.front()), pf = m.predictF(v, e, f.front());
+        for (std::size_t i = 0; i < ps.size(); ++i)
+            if (!std::isfinite(ps[i]) || !std::isfinite(pf[i]))
+                inputError("model: the " + name + " coefficients give a prediction that is not a finite number at v = " +
+                           std::to_string(v[i]) + " (" + (name == "table" ? a.table : std::string("the runs' fits")) + ")");
         double es = 0, ef = 0, ns = 0, nf = 0;
         for (std::size_t i = 0; i < s.size(); ++i) {
             es += (ps[i] - s[i]) * (ps[i] - s[i]);

@@ -219,6 +219,14 @@ FitResult fitVolumeDependence(const std::vector<double>& v, const std::vector<do
 std::vector<std::vector<double>> selectRows(const CsvTable& t, BranchSelect b, double pMin) {
     const int tau = t.column("tau");
     const int p = t.column("p_nd");
+    // values no packing can have (a foreign or edited file): refused, not fitted
+    if (t.hasColumn("volume_fraction")) {
+        const int vf = t.column("volume_fraction");
+        for (std::size_t k = 0; k < t.rows.size(); ++k)
+            if (!(t.rows[k][vf] > 0 && t.rows[k][vf] < 1))
+                inputError(t.source + ": volume_fraction " + std::to_string(t.rows[k][vf]) + " in data row " + std::to_string(k + 1) +
+                           " is outside (0, 1)");
+    }
     if (b == BranchSelect::Auto) {
         // unloading when the test has one: rows past tau = 0.5 and, where the file has eps_zz, a
         // reversal of the axial strain (a cycle of IsotropicCompression or UniaxialCyclic). A

@@ -1,5 +1,7 @@
 #include "ElementTest.h"
 
+#include "IO/StateFields.h"
+
 #include "Cli.h"
 
 #include <algorithm>
@@ -360,6 +362,7 @@ void ElementTest::loadDriverState(const std::vector<std::pair<std::string, std::
     const auto malformed = [](const std::string& k, const std::string& v) {
         inputError("restart file: malformed " + k + " '" + v + "'");
     };
+    requireDriverKeys(kv, {"stage", "stage_begun", "stage_start"});
     for (const auto& [k, v] : kv) {
         long x = 0;
         if (k == "stage") {

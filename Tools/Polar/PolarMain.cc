@@ -5,6 +5,7 @@
 #include "Core/Error.h"
 #include "OutputFiles.h"
 #include "Polar.h"
+#include "Shell.h"
 #include "SnapshotIO.h"
 
 #include <cmath>
@@ -62,7 +63,8 @@ void writePlots(const std::string& dir, const std::string& name, const std::stri
                << "     layers using ($1 == blast ? ($5+$6)/2 : NaN):'s_dev' w lp pt 5 t 's_{dev} of the layer', \\\n"
                << "     layers using ($1 == blast ? ($5+$6)/2 : NaN):'sliding_fraction' axes x1y2 w lp pt 6 dt 2 t 'sliding fraction'\n";
     });
-    const std::string cmd = "cd '" + (dir.empty() ? std::string(".") : dir) + "' && gnuplot '" + name + "_plots.gp' 2>/dev/null";
+    const std::string cmd = "cd " + tools::shellQuote(dir.empty() ? std::string(".") : dir) + " && gnuplot " + tools::shellQuote(name + "_plots.gp") +
+                            " 2>/dev/null";
     if (std::system(cmd.c_str()) != 0)
         std::cerr << "pdpm-polar: warning: gnuplot failed or is not installed; plots not made (script: " << gp << ")\n";
 }
@@ -97,7 +99,7 @@ int run(int argc, char** argv) {
     if (!cli.parse(argc, argv, std::cout)) return 0;
     if (inputs.empty()) inputError("--input: no input files given");
     requireNonEmpty("output", output);
-    requireNonEmpty("name", name);
+    requireFileName("name", name);
 
     PolarConfig cfg;
     if (axis == "x" || axis == "y" || axis == "z") {
