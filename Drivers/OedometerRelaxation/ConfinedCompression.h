@@ -277,6 +277,12 @@ protected:
         if (inHold_ && (holds_.empty() || (!settling_ && holds_.back().t.empty())))
             inputError("restart file: a hold in progress without its samples");
         if (labScale_ < 0 || pistonZ0_ <= 0 || pistonZ_ <= 0) inputError("restart file: invalid piston or lab clock state");
+        // the lab clock starts at 0 and only runs forward: the current step began, and every sample was
+        // taken, at or before the clock's time
+        if (!(labTime_ >= 0) || !(stepLabStart_ >= 0 && stepLabStart_ <= labTime_) ||
+            (!rec_.rows.empty() && !rec_.rows.back().empty() && !(rec_.rows.back()[0] <= labTime_)))
+            inputError("restart file: lab clock " + fmt(labTime_) + " s behind its step start (" + fmt(stepLabStart_) +
+                       " s) or its last sample, or negative");
     }
 
     // parameters and state a subclass reads or sets

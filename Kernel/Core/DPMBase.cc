@@ -209,6 +209,14 @@ void DPMBase::prepare(bool freshStart) {
     if (dt_ > tc / 10)
         inputError("time step dt = " + fmt(dt_) + " s is above t_c/10 = " + fmt(tc / 10) +
                    " s of the fastest pair (t_c = " + fmt(tc) + " s)");
+    // Lower bounds: not physics, but a run that would take forever (a stiffness of 1e300, a time step
+    // of 1e-300 s) is refused instead of showing an ETA of many lifetimes.
+    if (tc < 1e-15)
+        inputError("the fastest pair's contact time t_c = " + fmt(tc) +
+                   " s is below 1e-15 s: stiffness, density or radius out of range");
+    if (tc < 1e299 && dt_ < 1e-6 * tc)  // (1e300: no pair has a stiffness, nothing to resolve)
+        inputError("time step dt = " + fmt(dt_) + " s is below t_c/1e6 = " + fmt(1e-6 * tc) +
+                   " s of the fastest pair (more than a million steps per contact)");
     if (!(timeMax_ > time_)) inputError("time_max (" + fmt(timeMax_) + " s) must exceed the current time " + fmt(time_) + " s");
     for (const auto& w : walls_) w->moveTo(time_);
 

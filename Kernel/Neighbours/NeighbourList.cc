@@ -111,7 +111,7 @@ void NeighbourList::read(std::istream& is, std::size_t nParticles, std::size_t n
     is >> historySize >> builds_ >> nPhases;
     wallHistorySize = historySize;  // files hold the canonical layout, pairs and walls alike
     runStart_.clear();              // not in the file: the next build indexes the old pairs instead
-    if (!is || tag != "neighbours" || nPhases > 3) inputError("restart: malformed neighbour header");
+    if (!is || tag != "neighbours" || nPhases > 3 || builds_ < 0) inputError("restart: malformed neighbour header");
     // A file edited consistently (H and every history array rewritten, checksum resealed) would pass the
     // size checks below, and the pair loops, which step through the histories by the law's H, would
     // read past them.

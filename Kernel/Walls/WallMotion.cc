@@ -86,6 +86,9 @@ WallMotion WallMotion::read(std::istream& is) {
     m.t0 = readDouble(is);
     m.holdOffset = readVec3(is);
     if (!is || k < 0 || k > 4 || k == 3) inputError("restart: malformed wall motion");
+    // every field, used by this kind of motion or not, as the writer writes it: finite
+    if (!isFinite(m.velocity) || !isFinite(m.amplitude) || !std::isfinite(m.frequency) || !std::isfinite(m.t0) || !isFinite(m.holdOffset))
+        inputError("restart: wall motion with a value that is not a finite number");
     m.kind = static_cast<Kind>(k);
     return m;
 }

@@ -60,6 +60,9 @@ expect_refused 'phi_f' --contact_law luding --phi_f 1.5
 expect_refused 'phi_f' --contact_law luding --phi_f -0.1
 expect_refused 'k1' --contact_law luding --k1 5000
 expect_refused 'dt' --dt 1e-4
+# values that would make a run last forever: a femtosecond contact, a million steps per contact
+expect_refused 't_c .* below 1e-15' --stiffness 1e300
+expect_refused 'dt .* below t_c/1e6' --dt 1e-300
 expect_refused 'overlap' --gap -2e-4
 expect_refused 'no_such_flag' --no_such_flag 1
 expect_refused 'contact_law|contact law' --contact_law no_such_law

@@ -136,7 +136,8 @@ int main() {
         const std::string text = readWholeText("tri2/DeviatoricD2.restart");
         const std::pair<const char*, const char*> edits[] = {{"contact_stress_sum", "1 2 oops"}, {"contact_stress_sum", "1 2 3 4"},
                                                              {"contact_stress_sum", "nan 0 0"},  {"stage", "99"},
-                                                             {"stage_begun", "2"},               {"stage_start", "nan"}};
+                                                             {"stage_begun", "2"},               {"stage_start", "nan"},
+                                                             {"stage_start", "-1"},              {"stage_start", "1e300"}};
         for (const auto& [key, bad] : edits) {
             const std::string edited = pdpm::withRestartValue(text, key, bad);
             check(!edited.empty(), std::string("the final restart file holds ") + key);

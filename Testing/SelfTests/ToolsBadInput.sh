@@ -81,6 +81,11 @@ printf '# time 0 step 0 contacts 0\n# box 0 1 0 1 0 1 periodic 0 0 0\n' > "$work
 expect2 "polar no contacts"    "$POLAR" --input "$work/nocontacts.fstat" --plot none --output "$work/p"
 printf '# time 0 step 0 contacts 1\n# box 0 1 0 1 0 1 periodic 2 0 0\n0 1 0.5 0.5 0.5 0.01 0 0 1 1 0 0 0 0 0 0.1 0\n' > "$work/periodic2.fstat"
 expect2 "polar periodic flag 2" "$POLAR" --input "$work/periodic2.fstat" --plot none --output "$work/p"
+printf '# time 0 step 0 contacts 1\n# box 0 1 0 1 0 1 periodic 0 0 0\n0 1 0.5 0.5 0.5 0.01 3 4 0 1 0 0 0 0 0 0.1 0\n' > "$work/scaled.fstat"
+expect2 "polar normal not a unit vector" "$POLAR" --input "$work/scaled.fstat" --plot none --output "$work/p"
+says "polar normal not a unit vector" 'not a unit vector'
+printf '# time 0 step 0 contacts 1\n# box 0 1 0 1 0 1 periodic 0 0 0\n0 1 0.5 0.5 0.5 0.01 0 0 1 1e308 0 0 0 0 0 0.1 0\n' > "$work/hugef.fstat"
+expect2 "polar force 1e308"    "$POLAR" --input "$work/hugef.fstat" --plot none --output "$work/p"
 printf 'tau,p_nd,eps_dev\n0.1,1,0\n0.2,1,0.01\n' > "$work/short.macro.csv"
 expect2 "fit steady too short" "$FIT" steady "$work/short.macro.csv"
 printf 'tau,p_nd,volume_fraction,C_star\n0.1,1,0.6,6\n0.2,1,-0.6,6\n' > "$work/negv.macro.csv"

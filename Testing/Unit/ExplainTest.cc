@@ -2539,6 +2539,24 @@ TEST(ExplainCalibratedCompliance, RecoversTheUnloadStiffnessRatio) {
     }
 }
 
+// One role per component in MODEL.json: a name listed twice in a list, or under baseline and under
+// candidates or nuisances, is refused (it was screened twice, or silently dropped from the candidates).
+TEST(ExplainInput, ModelFileGivesEachComponentOneRole) {
+    const pdpm::testing::TempDir tmp;
+    const std::string d = tmp.str();
+    for (const char* bad : {R"({"candidates": ["plasticity", "cohesion", "plasticity"]})",
+                            R"({"baseline": ["stiffness_nonlinearity", "stiffness_nonlinearity"]})",
+                            R"({"baseline": ["plasticity"], "candidates": ["plasticity", "cohesion"]})",
+                            R"({"baseline": ["instrument_compliance"], "nuisances": ["instrument_compliance", "sensor_drift"]})"}) {
+        ExplainOptions o;
+        writeWholeFile(d + "/m.json", bad);
+        EXPECT_THROW(readModelFile(d + "/m.json", o), InputError) << bad;
+    }
+    ExplainOptions o;
+    writeWholeFile(d + "/m.json", R"({"baseline": ["plasticity"], "candidates": ["cohesion"], "nuisances": ["sensor_drift"]})");
+    EXPECT_NO_THROW(readModelFile(d + "/m.json", o));
+}
+
 TEST(ExplainCalibratedCompliance, ModelFileRange) {
     const pdpm::testing::TempDir tmp;
     const std::string d = tmp.str();

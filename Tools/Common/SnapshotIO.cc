@@ -444,6 +444,12 @@ std::vector<ContactSnapshot> readFstat(const std::string& path) {
         if (c.i < 0) inputError(where() + "negative particle index i");
         if (!isFinite(c.normal) || !isFinite(c.ft) || !isFinite(c.branch) || !std::isfinite(c.fn))
             inputError(where() + "non-finite value");
+        // the writer's normal is a unit vector to the last digits; a zero or scaled one would be dropped
+        // or weigh the fabric and the layer stresses by its length
+        if (!(std::abs(norm(c.normal) - 1) < 1e-6)) inputError(where() + "contact normal of length " + std::to_string(norm(c.normal)) + ", not a unit vector");
+        // forces whose products overflow in a stress sum: no granular contact carries them
+        if (!(std::abs(c.fn) < 1e100) || !(norm(c.ft) < 1e100) || !(norm(c.branch) < 1e100) || !(std::abs(c.overlap) < 1e100))
+            inputError(where() + "force, overlap or branch vector beyond 1e100");
         c.sliding = sl != 0;
         blocks.back().contacts.push_back(c);
         --expected;

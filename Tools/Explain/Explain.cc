@@ -388,12 +388,22 @@ void readModelFile(const std::string& path, ExplainOptions& opt) {
                            (isNuisance(c) ? "a nuisance: list it under nuisances" : "baseline only: list it under baseline") + ")");
             if (c < 0 || c == kBaseline || (mechOnly && !isMechanism(c)) || (!mechOnly && c >= kNumComp))
                 inputError(path + ": " + key + ": unknown component '" + nm + "'");
+            if (std::find(out.begin(), out.end(), c) != out.end()) inputError(path + ": " + key + ": '" + nm + "' listed twice");
             out.push_back(c);
         }
     };
     names("baseline", opt.baselineComps, false);
     names("candidates", opt.candidates, true);
     names("nuisances", opt.nuisances, false);
+    // one role per component: a baseline term cannot also be tested as missing, or fitted again as a nuisance
+    const auto clash = [&](const char* a, const std::vector<int>& la, const char* b, const std::vector<int>& lb) {
+        if (!j.find(a) || !j.find(b)) return;
+        for (int c : la)
+            if (std::find(lb.begin(), lb.end(), c) != lb.end())
+                inputError(path + ": '" + std::string(compName(c)) + "' is listed under both " + a + " and " + b);
+    };
+    clash("baseline", opt.baselineComps, "candidates", opt.candidates);
+    clash("baseline", opt.baselineComps, "nuisances", opt.nuisances);
     for (int c : opt.nuisances)
         if (!isNuisance(c)) inputError(path + ": nuisances: '" + std::string(compName(c)) + "' is not a nuisance");
     if (const Json* t = j.find("noise_sigma_Pa")) {

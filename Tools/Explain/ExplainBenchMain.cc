@@ -108,6 +108,8 @@ int main(int argc, char** argv) {
             add("ool:bump", 5, k);
             add("ool:sine", 5, k);
         }
+        if (jobs.empty() && pairs == 0 && demCases == 0)
+            inputError("no cases to run (--reps, --nulls, --forced, --extras, --pairs and --dem_cases are all 0, or --mechanisms is empty)");
         ensureDirectory(out + "/cases");
         ensureDirectory(out + "/truth");
         ensureDirectory(out + "/reports");

@@ -270,7 +270,7 @@ int main(int argc, char** argv) {
             cli.add("snr", &snr, 3, "-", "peak effect / noise sd", 0, 1e6, true, false);
             cli.add("rho", &rho, 0.5, "-", "AR(1) coefficient of the noise", 0, 0.99);
             cli.add("seed", &seed, 1, "seed", 0, 2147483647);
-            cli.add("samples", &samples, 3000, "samples", 50, 10000000);
+            cli.add("samples", &samples, 3000, "samples", 50, 1000000);
             cli.add("truth", &truth, "", "where to write the sealed truth (JSON)");
             cli.add("material_seed", &materialSeed, 0,
                     "seed of the material (stiffness, mechanism parameters); 0: from --seed. Cases with the same "
@@ -283,7 +283,7 @@ int main(int argc, char** argv) {
             cli.add("snr", &snr, 3, "-", "peak effect (DEM with minus DEM without the mechanism) / noise sd", 0, 1e6, true, false);
             cli.add("rho", &rho, 0.5, "-", "AR(1) coefficient of the noise", 0, 0.99);
             cli.add("seed", &seed, 1, "seed (protocol, parameters, the DEM's bed, noise)", 0, 2147483647);
-            cli.add("samples", &samples, 2000, "samples", 50, 10000000);
+            cli.add("samples", &samples, 2000, "samples", 50, 1000000);
             cli.add("truth", &truth, "", "where to write the sealed truth (JSON)");
             cli.add("work", &work, "", "folder of the DEM runs (default: TRUTH.dem)");
             cli.add("driver", &driver, "", "OedometerRelaxation executable (default: next to this program)");
