@@ -217,6 +217,9 @@ void DPMBase::prepare(bool freshStart) {
     if (tc < 1e299 && dt_ < 1e-6 * tc)  // (1e300: no pair has a stiffness, nothing to resolve)
         inputError("time step dt = " + fmt(dt_) + " s is below t_c/1e6 = " + fmt(1e-6 * tc) +
                    " s of the fastest pair (more than a million steps per contact)");
+    // a step the clock can resolve at this time (a restart at t = 1e10 s with dt = 1e-7 s would never advance)
+    if (!((time_ + dt_) - time_ >= 0.5 * dt_))
+        inputError("time step dt = " + fmt(dt_) + " s is below the clock's resolution at t = " + fmt(time_) + " s");
     if (!(timeMax_ > time_)) inputError("time_max (" + fmt(timeMax_) + " s) must exceed the current time " + fmt(time_) + " s");
     for (const auto& w : walls_) w->moveTo(time_);
 

@@ -170,10 +170,11 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
     int outIndex = 0;
     is >> outIndex;
     const double nextOut = readDouble(is), outEvery = readDouble(is);
-    // the next output lies ahead of the restart time (a file written by a run always has it there),
-    // and the interval moves it on: otherwise the output schedule never advances
+    // the next output lies ahead of the restart time (a file written by a run always has it there);
+    // an interval too small to move it on is a run's own choice (--save_every far below the step):
+    // the schedule then outputs every step (DPMBase::advanceNextOutput)
     if (!is || outIndex < 0 || !std::isfinite(nextOut) || !(nextOut > time_ - outEvery - dtFile) || !(outEvery >= 0) ||
-        !std::isfinite(outEvery) || (outEvery > 0 && !(nextOut + outEvery > nextOut)))
+        !std::isfinite(outEvery))
         invalid("output record");
     if (!stateOnly) {
         outputIndex_ = outIndex;

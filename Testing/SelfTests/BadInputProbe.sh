@@ -134,6 +134,9 @@ resealed output_minf 's/^output \([0-9]*\) [^ ]* /output \1 -inf /'
 expect_refused 'invalid output' --restart output_minf.restart
 resealed output_past 's/^output \([0-9]*\) [^ ]* /output \1 -1e20 /'
 expect_refused 'invalid output' --restart output_past.restart
+# a restart time at which the step is below the clock's resolution (t + dt == t: the run would never end)
+resealed time_huge 's/^time [^ ]* step/time 1e15 step/; s/^output \([0-9]*\) [^ ]* /output \1 2e15 /'
+expect_refused "clock's resolution" --restart time_huge.restart --time_max 3e15
 resealed gravity_nan 's/^gravity 0 0 -9.81/gravity 0 nan -9.81/'
 expect_refused 'gravity' --restart gravity_nan.restart
 resealed box_change_inf 's/^\(box .*\) 0$/\1 inf/'

@@ -58,8 +58,12 @@ int main() {
     {
         OedometerRelaxation d;
         ok &= check(oedometer_selftest::runDriver(d, {"--width", "3", "--fill_height", "2", "--save_every", "1e-300", "--time_max", "2e-4",
-                                                      "--name", "tiny_interval", "--quiet", "--threads", "1"}) == 0,
+                                                      "--name", "tiny_interval", "--restart_output", "1", "--quiet", "--threads", "1"}) == 0,
                     "--save_every 1e-300 runs (an output every step)");
+        OedometerRelaxation e;  // and its own restart file reads back
+        ok &= check(oedometer_selftest::runDriver(e, {"--restart", "tiny_interval.restart", "--name", "tiny_interval", "--time_max", "3e-4",
+                                                      "--quiet", "--threads", "1"}) == 0,
+                    "the --save_every 1e-300 run resumes from its restart file");
     }
     {
         OedometerRelaxation d;

@@ -207,7 +207,7 @@ void ElementTest::actionsOnRestart() {
     if (savedStage >= stages_.size())
         inputError("restart file: stage " + std::to_string(savedStage) + " but this run has " + std::to_string(stages_.size()) +
                    " stages (0 to " + std::to_string(stages_.size() - 1) + ")");
-    // a stage began at a step of the run: not before time 0, not after the restart time
+    // a stage began at a step of the run: not before time 0, not after the restart time (within a step)
     if (savedBegun && !(savedStart >= 0 && savedStart <= t + timeStep()))
         inputError("restart file: stage_start " + fmt(savedStart) + " s outside the run so far (0 to " + fmt(t) + " s)");
     stage_ = savedStage;
