@@ -213,11 +213,12 @@ void BoxController::load(const std::vector<std::pair<std::string, std::string>>&
         if (!parseDouble(v, x) || !std::isfinite(x)) inputError("restart: malformed box controller value for " + k);
         return x;
     };
-    std::vector<std::string> keys = {prefix + "swelling", prefix + "ref"};
-    for (int a = 0; a < 3; ++a)
-        for (const char* f : {"mode", "l0", "lf", "period", "t0", "affine", "rate", "goal", "mass", "damping", "velocity"})
-            keys.push_back(prefix + std::to_string(a) + "_" + f);
-    requireDriverKeys(kv, keys);  // every value save() writes
+    // every key save() writes (taken from save() itself, so a new field is required with it)
+    std::vector<std::pair<std::string, std::string>> written;
+    save(written, prefix);
+    std::vector<std::string> keys;
+    for (const auto& [k, v] : written) keys.push_back(k);
+    requireDriverKeys(kv, keys);
     for (const auto& [k, v] : kv) {
         if (k.rfind(prefix, 0) != 0) continue;
         const std::string rest = k.substr(prefix.size());
