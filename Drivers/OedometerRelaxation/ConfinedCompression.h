@@ -111,6 +111,12 @@ protected:
     }
 
     void actionsBeforeTimeLoop() override {
+        // a piston that moves a sizeable part of a grain per step crushes the top layer in one step
+        // (and ran into NaN with only a warning before); the default ramp moves ~1e-6 of a grain
+        const double perStep = rampRate_ * pistonZ0_ * timeStep();
+        if (!(perStep <= kMaxPistonStepPerGrain * grainSize_))
+            inputError("--ramp_rate " + fmt(rampRate_) + " 1/s moves the piston " + fmt(perStep) + " m per time step, more than " +
+                       fmt(kMaxPistonStepPerGrain) + " of the grain size " + fmt(grainSize_) + " m");
         if (restarted_) {
             if (stepIndex_ < steps_.size()) setLabScale(labScale_, relaxes(steps_[stepIndex_]));
         } else {
@@ -277,6 +283,10 @@ protected:
         if (inHold_ && (holds_.empty() || (!settling_ && holds_.back().t.empty())))
             inputError("restart file: a hold in progress without its samples");
         if (labScale_ < 0 || pistonZ0_ <= 0 || pistonZ_ <= 0) inputError("restart file: invalid piston or lab clock state");
+        // the piston wall is where pistonZ puts it (its motion is pistonZ - pistonZ0 from the start height)
+        if (!(std::abs(walls()[pistonWall_]->offset().z - (pistonZ_ - pistonZ0_)) <= 1e-9 * pistonZ0_))
+            inputError("restart file: pistonZ " + fmt(pistonZ_) + " m does not match the piston wall's displacement " +
+                       fmt(walls()[pistonWall_]->offset().z) + " m from pistonZ0 " + fmt(pistonZ0_) + " m");
         // the lab clock starts at 0 and only runs forward: the current step began, and every sample was
         // taken, at or before the clock's time
         if (!(labTime_ >= 0) || !(stepLabStart_ >= 0 && stepLabStart_ <= labTime_) ||
@@ -290,6 +300,7 @@ protected:
     std::size_t pistonWall_ = 0, bottomWall_ = 0;
     double pistonZ_ = 0, pistonZ0_ = 0;
     double solid_ = 0, grainDensity_ = 0, grainSize_ = 0;
+    static constexpr double kMaxPistonStepPerGrain = 0.05;  ///< the --ramp_rate bound, per time step
     StateFields state_;  ///< scalar state in restart files: a subclass adds its own fields
 
 private:

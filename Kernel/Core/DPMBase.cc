@@ -529,13 +529,21 @@ void DPMBase::refreshContacts() {
     particles_.t = std::move(savedT);
 }
 
+// The check at output steps: position, velocity and spin finite, and the squares of velocity and
+// spin too, so that no energy written to the .ene file (or a later macro file) overflows to inf.
+static bool particleStateIsFinite(const ParticleData& P, long i) {
+    return std::isfinite(P.x[i].x + P.x[i].y + P.x[i].z + norm2(P.v[i]) + norm2(P.w[i]));
+}
+
 void DPMBase::reportNonFinite() {
     const ParticleData& P = particles_;
     const long n = static_cast<long>(P.size());
     long first = 0;
-    while (first < n && std::isfinite(P.x[first].x + P.x[first].y + P.x[first].z + P.v[first].x + P.v[first].y +
-                                      P.v[first].z + P.w[first].x + P.w[first].y + P.w[first].z))
-        ++first;
+    while (first < n && particleStateIsFinite(P, first)) ++first;
+    // finite values whose squares overflow (a speed beyond 1e154 m/s, e.g. from an edited restart)
+    const bool overflow = first < n && std::isfinite(P.x[first].x + P.x[first].y + P.x[first].z + P.v[first].x +
+                                                     P.v[first].y + P.v[first].z + P.w[first].x + P.w[first].y +
+                                                     P.w[first].z);
     std::string where = lastFiniteRestartTime_ >= 0
                             ? "; last finite state (t = " + fmt(lastFiniteRestartTime_) + " s) is in " + outputPath(".restart")
                             : "";
@@ -544,8 +552,8 @@ void DPMBase::reportNonFinite() {
     } catch (const InputError& e) {
         where += std::string("; ") + e.what();  // the NaN stays the message's subject
     }
-    inputError("NaN in the state of particle " + std::to_string(first) + " at t = " + fmt(time_) + " s (step " +
-               std::to_string(step_) + ")" + where);
+    inputError(std::string(overflow ? "overflow (velocity squared not finite)" : "NaN") + " in the state of particle " +
+               std::to_string(first) + " at t = " + fmt(time_) + " s (step " + std::to_string(step_) + ")" + where);
 }
 
 // ---- energies (deterministic sums) ------------------------------------------------------------------
@@ -597,9 +605,7 @@ bool DPMBase::stateIsFinite() const {
     bool bad = false;
 #pragma omp parallel for schedule(static) reduction(|| : bad)
     for (long i = 0; i < n; ++i)
-        if (!std::isfinite(P.x[i].x + P.x[i].y + P.x[i].z + P.v[i].x + P.v[i].y + P.v[i].z + P.w[i].x + P.w[i].y +
-                           P.w[i].z))
-            bad = true;
+        if (!particleStateIsFinite(P, i)) bad = true;
     return !bad;
 }
 

@@ -1,6 +1,7 @@
 #include "Core/Parameters.h"
 
 #include "Core/Error.h"
+#include "IO/FileName.h"
 
 #include <algorithm>
 #include <charconv>
@@ -496,8 +497,8 @@ CommonOptions parseCommandLine(const std::vector<std::string>& args, ParameterSe
             if (value.empty()) throw InputError("--output: empty directory name");
             opts.output = value;
         } else if (name == "name") {
-            if (value.empty() || value.find('/') != std::string::npos)
-                throw InputError("--name: value '" + value + "' must be non-empty and contain no '/'");
+            if (!isPlainFileName(value))
+                throw InputError("--name: '" + printableFileName(value) + "' is not " + plainFileNameRule());
             opts.name = value;
         } else if (name == "preset") {
             if (value.empty()) throw InputError("--preset: empty preset name");

@@ -248,7 +248,7 @@ void DPMBase::readRestart(const std::string& path, bool stateOnly) {
         int s = 0, fixed = 0;
         is >> s >> fixed;
         if (!is || s < 0 || s >= ns || (fixed != 0 && fixed != 1) || !(r > 0) || !std::isfinite(r) || !isFinite(x) ||
-            !isFinite(v) || !isFinite(w) ||
+            !isFinite(v) || !isFinite(w) || !std::isfinite(norm2(v) + norm2(w)) ||  // squares: the energies
             !isFinite(f) || !isFinite(t))
             inputError("restart file " + path + ": malformed particle record " + std::to_string(i));
         const std::size_t k = particles_.add(x, r, species_[s].density, s, v, w, fixed != 0);

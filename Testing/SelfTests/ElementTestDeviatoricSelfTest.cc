@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "../../Drivers/Deviatoric/DeviatoricD2.h"
+#include "IO/NumberFormat.h"
 #include "IO/RestartSeal.h"
 #include "ElementTestCommon.h"
 
@@ -134,6 +135,20 @@ int main() {
     // driver keys edited into malformed values (file resealed, so the checksum passes): refused
     {
         const std::string text = readWholeText("tri2/DeviatoricD2.restart");
+        // resumed for five steps: the file's own time_max is reached, and would refuse every edit alike
+        std::string resumeTo;
+        {
+            std::istringstream line(text.substr(text.find("\ntime ") + 1));
+            std::string word, stepWord, dtWord;
+            double t = 0, dt = 0;
+            long step = 0;
+            line >> word >> t >> stepWord >> step >> dtWord >> dt;
+            check(word == "time" && stepWord == "step" && dtWord == "dt" && dt > 0, "the final restart file has a time line");
+            resumeTo = pdpm::fmt(t + 5 * dt);
+        }
+        check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart", "tri2/DeviatoricD2.restart",
+                                       "--time_max", resumeTo}) == 0,
+              "the unedited final restart file resumes for five steps");
         const std::pair<const char*, const char*> edits[] = {{"contact_stress_sum", "1 2 oops"}, {"contact_stress_sum", "1 2 3 4"},
                                                              {"contact_stress_sum", "nan 0 0"},  {"stage", "99"},
                                                              {"stage_begun", "2"},               {"stage_start", "nan"},
@@ -143,8 +158,24 @@ int main() {
             check(!edited.empty(), std::string("the final restart file holds ") + key);
             if (edited.empty()) continue;
             std::ofstream("tri2/edited.restart", std::ios::binary | std::ios::trunc) << edited;
-            check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart", "tri2/edited.restart"}) == 2,
+            check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart", "tri2/edited.restart",
+                                           "--time_max", resumeTo}) == 2,
                   std::string("a restart with ") + key + " '" + bad + "' is refused (exit code 2)");
+        }
+        // the box line's periodic flags (PX PY PZ after the six corner coordinates) with z made a
+        // wall-less open axis: no element test runs in it (it ran before)
+        const std::size_t at = text.find("\nbox ");
+        check(at != std::string::npos, "the final restart file has a box line");
+        if (at != std::string::npos) {
+            std::string edited = text;
+            std::size_t p = at + 5;
+            for (int field = 0; field < 8; ++field) p = edited.find(' ', p) + 1;  // to PZ
+            check(edited.compare(p, 2, "1 ") == 0, "the box line's PZ is 1");
+            edited.replace(p, 1, "0");
+            std::ofstream("tri2/edited.restart", std::ios::binary | std::ios::trunc) << pdpm::resealRestartText(edited);
+            check(runDriver<DeviatoricD2>({"--quiet", "1", "--threads", "1", "--output", "tri2edit", "--restart", "tri2/edited.restart",
+                                           "--time_max", resumeTo}) == 2,
+                  "a restart whose box is not periodic along z is refused (exit code 2)");
         }
     }
     // without ene, vtk and fstat output the macro rows need records the kernel does not make; the

@@ -56,6 +56,18 @@ int main() {
                     "--d_mean 1e300 is refused (exit code 2)");
     }
     {
+        // a piston that would cross a grain in a step: one error line before the loop (before: a
+        // warning line, then NaN)
+        OedometerRelaxation d;
+        ok &= check(oedometer_selftest::runDriver(d, {"--width", "3", "--fill_height", "2", "--ramp_rate", "1e300", "--quiet", "--threads", "1",
+                                                      "--name", "fast_ramp"}) == 2,
+                    "--ramp_rate 1e300 is refused (exit code 2)");
+        OedometerRelaxation e;
+        ok &= check(oedometer_selftest::runDriver(e, {"--width", "3", "--fill_height", "2", "--ramp_rate", "50", "--time_max", "2e-4",
+                                                      "--quiet", "--threads", "1", "--name", "fast_ramp_ok"}) == 0,
+                    "--ramp_rate 50 (100 times the default) runs");
+    }
+    {
         OedometerRelaxation d;
         ok &= check(oedometer_selftest::runDriver(d, {"--width", "3", "--fill_height", "2", "--save_every", "1e-300", "--time_max", "2e-4",
                                                       "--name", "tiny_interval", "--restart_output", "1", "--quiet", "--threads", "1"}) == 0,
@@ -107,15 +119,21 @@ int main() {
         // passes): refused with exit code 2 before anything runs
         const std::string bottomWall = restartValue(half, "bottomWall");
         ok &= check(!bottomWall.empty(), "part.restart holds bottomWall");
+        // pistonZ 1 % above where the piston wall is (ran to the end before, the piston jumping)
+        const std::string pistonZ = restartValue(half, "pistonZ");
+        ok &= check(!pistonZ.empty(), "part.restart holds pistonZ");
+        const std::string pistonOff = pistonZ.empty() ? "1" : fmt(1.01 * std::stod(pistonZ));
         const std::pair<std::string, std::string> edits[] = {
-            {"stepIndex", "0.5"}, {"settling", "2"}, {"pistonWall", bottomWall}, {"recRow", "1"}, {"labScale", "-1"}};
+            {"stepIndex", "0.5"}, {"settling", "2"}, {"pistonWall", bottomWall}, {"recRow", "1"}, {"labScale", "-1"},
+            {"pistonZ", pistonOff}};
         for (const auto& [key, bad] : edits) {
             const std::string edited = withRestartValue(half, key, bad);
             ok &= check(!edited.empty(), "part.restart holds " + key);
             if (edited.empty()) continue;
             writeWholeFile("edited.restart", edited);
             OedometerRelaxation e;
-            ok &= check(oedometer_selftest::runDriver(e, {"--restart", "edited.restart", "--name", "edited", "--quiet"}) == 2,
+            // (--time_max beyond the file's: else the stored one, reached, refuses every edit alike)
+            ok &= check(oedometer_selftest::runDriver(e, {"--restart", "edited.restart", "--name", "edited", "--quiet", "--time_max", "1e30"}) == 2,
                         "a restart with " + key + " '" + bad + "' is refused (exit code 2)");
         }
         {
@@ -128,7 +146,7 @@ int main() {
                 renamed.replace(at, 9, "\nlabClock ");
                 writeWholeFile("renamed.restart", resealRestartText(renamed));
                 OedometerRelaxation e;
-                ok &= check(oedometer_selftest::runDriver(e, {"--restart", "renamed.restart", "--name", "renamed", "--quiet"}) == 2,
+                ok &= check(oedometer_selftest::runDriver(e, {"--restart", "renamed.restart", "--name", "renamed", "--quiet", "--time_max", "1e30"}) == 2,
                             "a restart without labTime is refused (exit code 2)");
             }
         }

@@ -1,6 +1,7 @@
 #include "Cli.h"
 
 #include "Core/Error.h"
+#include "IO/FileName.h"
 #include "Core/RunMain.h"
 
 #include <cerrno>
@@ -219,9 +220,7 @@ void requireNonEmpty(const std::string& flag, const std::string& value) {
 
 void requireFileName(const std::string& flag, const std::string& value) {
     requireNonEmpty(flag, value);
-    bool plain = value != "." && value != "..";
-    for (unsigned char c : value) plain = plain && c >= 0x20 && c != 0x7f && c != '/' && c != '\'' && c != '"' && c != '`';
-    if (!plain) inputError(flagText(flag) + ": '" + value + "' is not a plain file name (no '/', quotes or control characters; not '.' or '..')");
+    if (!isPlainFileName(value)) inputError(flagText(flag) + ": '" + printableFileName(value) + "' is not " + plainFileNameRule());
 }
 
 } // namespace pdpm::tools

@@ -193,6 +193,9 @@ double ElementTest::testDuration() const {
 }
 
 void ElementTest::actionsOnRestart() {
+    // every element test runs in a fully periodic box without walls (as a --start file must be)
+    if (!walls().empty() || !box().periodic(0) || !box().periodic(1) || !box().periodic(2))
+        inputError("restart file: not a fully periodic box without walls, which every element test runs in");
     solid_ = 0;
     for (double r : particles().r) solid_ += 4.0 / 3.0 * std::numbers::pi * r * r * r;
     const std::size_t savedStage = stage_;
