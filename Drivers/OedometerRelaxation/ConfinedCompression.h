@@ -106,6 +106,18 @@ protected:
     void actionsOnRestart() override {
         loadProtocol();
         if (stepIndex_ > steps_.size()) inputError("restart file: protocol step " + std::to_string(stepIndex_) + " beyond the protocol");
+        // the lab clock cannot be ahead of the protocol so far: a hold adds its duration, a ramp or
+        // unload at most the piston's whole travel (pistonZ0) at its lab speed; twice that bound
+        // leaves room for a hold's last step
+        double labBound = 0;
+        for (std::size_t k = 0; k <= stepIndex_ && k < steps_.size(); ++k) {
+            const recording::Step& st = steps_[k];
+            const bool moves = st.kind == recording::Step::Kind::Ramp || st.kind == recording::Step::Kind::Unload;
+            labBound += moves ? pistonZ0_ / st.velocity : st.duration;
+        }
+        if (!(labTime_ <= 2 * labBound))
+            inputError("restart file: lab clock " + fmt(labTime_) + " s ahead of what protocol steps 0 to " + std::to_string(stepIndex_) +
+                       " can take (at most " + fmt(labBound) + " s)");
         installPistonMotion();
         restarted_ = true;
     }
