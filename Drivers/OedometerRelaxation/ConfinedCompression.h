@@ -12,7 +12,8 @@
 //
 // A subclass builds the bed in setupInitialConditions() and sets: the bottom and piston walls
 // (bottomWall_, pistonWall_), the piston's start height (pistonZ0_ = pistonZ_, then
-// installPistonMotion()), the solid volume solid_, grainDensity_ and grainSize_ (inertial number);
+// installPistonMotion()), the solid volume solid_, grainDensity_ and grainSize_ (inertial number and
+// the --ramp_rate bound; grainSize_ is not in the restart file: set it again in actionsOnRestart());
 // it gives the loaded area, the lateral stress and the run's description for the protocol file.
 #pragma once
 #include <algorithm>
@@ -106,14 +107,16 @@ protected:
     void actionsOnRestart() override {
         loadProtocol();
         if (stepIndex_ > steps_.size()) inputError("restart file: protocol step " + std::to_string(stepIndex_) + " beyond the protocol");
-        // the lab clock cannot be ahead of the protocol so far: a hold adds its duration, a ramp or
-        // unload at most the piston's whole travel (pistonZ0) at its lab speed; twice that bound
-        // leaves room for a hold's last step
+        // the lab clock cannot be ahead of the protocol so far: a hold adds its duration and at most
+        // one more step of its clock (linear: time_scale dt; log: (t0 + duration) dt / hold_tau), a
+        // ramp or unload at most the piston's whole travel (pistonZ0) at its lab speed; the check
+        // allows twice that
         double labBound = 0;
         for (std::size_t k = 0; k <= stepIndex_ && k < steps_.size(); ++k) {
             const recording::Step& st = steps_[k];
             const bool moves = st.kind == recording::Step::Kind::Ramp || st.kind == recording::Step::Kind::Unload;
-            labBound += moves ? pistonZ0_ / st.velocity : st.duration;
+            const double lastStep = std::max(timeScale_, (relaxT0_ + st.duration) / holdTau_) * timeStep();
+            labBound += moves ? pistonZ0_ / st.velocity : st.duration + lastStep;
         }
         if (!(labTime_ <= 2 * labBound))
             inputError("restart file: lab clock " + fmt(labTime_) + " s ahead of what protocol steps 0 to " + std::to_string(stepIndex_) +

@@ -1,9 +1,9 @@
 // The one rule for a run or output name given on a command line (--name of the drivers and tools).
 //
-// The name becomes part of file names (DIR/NAME.macro.csv, ...) and of the gnuplot scripts written
-// next to them, so it must stay inside --output and inside a quoted string: no '/', no quotes or
-// back-quotes, no control characters, and not "." or "..". Everything else (spaces, non-ASCII
-// bytes) is allowed.
+// The name becomes part of file names (DIR/NAME.macro.csv, ...), and the tools also write it into
+// quoted strings of the gnuplot scripts next to their results, so it must stay inside --output and
+// inside a quoted string: no '/', no quotes or back-quotes, no control characters, and not "." or
+// "..". Everything else (spaces, non-ASCII bytes) is allowed.
 #pragma once
 #include <string>
 

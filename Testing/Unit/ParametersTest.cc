@@ -197,8 +197,8 @@ TEST(Parameters, RefusesOutOfRange) {
     EXPECT_TRUE(contains(d.errorOf({"--threads", "0"}), "--threads: value 0 out of range [1"));
     EXPECT_EQ(d.errorOf({"--mode", "twist"}), "--mode: value 'twist' is not one of: shear, compress");
     EXPECT_TRUE(contains(d.errorOf({"--name", "a/b"}), "--name"));
-    // the drivers' --name follows the tools' rule (IO/FileName.h): it also ends up inside the
-    // quoted strings of the gnuplot scripts written next to the results
+    // the drivers' --name follows the tools' rule (IO/FileName.h; the tools put the name into the
+    // quoted strings of their gnuplot scripts)
     for (const char* bad : {"..", ".", "a'b", "a\"b", "a`b", "a\tb", "a\nb", ""})
         EXPECT_TRUE(contains(d.errorOf({"--name", bad}), "is not a plain file name")) << bad;
     EXPECT_NO_THROW(d.parse({"--name", "run 1.\xc3\xa9"}));
