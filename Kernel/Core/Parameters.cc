@@ -415,7 +415,7 @@ void ParameterSet::printHelp(std::ostream& os, const std::string& programName,
     os << "\nCommon flags:\n";
     printTable(os, {{"--help", "", "print this help and exit"},
                     {"--output DIR", ".", "output directory (created if missing)"},
-                    {"--name RUN", programName, "run name: prefix of all output files"},
+                    {"--name RUN", programName, "run name: prefix of all output files (a plain file name: no /, quotes or control characters)"},
                     {"--preset NAME", "", "apply a preset (below) before the explicit flags"},
                     {"--threads N", "", "number of OpenMP threads (>= 1; default: OpenMP's choice)"},
                     {"--quiet [0|1]", "0", "no progress output"},
