@@ -17,6 +17,13 @@
 
 namespace pdpm {
 
+namespace {
+/// What every element test runs in: a box periodic on all three axes, without walls.
+bool fullyPeriodicWithoutWalls(const DPMBase& d) {
+    return d.walls().empty() && d.box().periodic(0) && d.box().periodic(1) && d.box().periodic(2);
+}
+} // namespace
+
 // ---- parameters ------------------------------------------------------------------------------------
 ElementTest::ElementTest(const std::string& name, const std::string& description) : DPMBase(name, description) {
     auto& p = parameters();
@@ -124,7 +131,7 @@ void ElementTest::setupInitialConditions() {
             P.setRadius(i, P.r[i], density_);
         }
         setGravity({0, 0, 0});
-        if (!walls().empty() || !box().periodic(0) || !box().periodic(1) || !box().periodic(2))
+        if (!fullyPeriodicWithoutWalls(*this))
             inputError("--start: " + start_ + " is not a fully periodic configuration without walls");
         // overlaps of a simulated packing are physical: the insertion check does not apply
         if (!parameters().wasSetOnCommandLine("max_initial_overlap")) parameters().set("max_initial_overlap", "1");
@@ -194,7 +201,7 @@ double ElementTest::testDuration() const {
 
 void ElementTest::actionsOnRestart() {
     // every element test runs in a fully periodic box without walls (as a --start file must be)
-    if (!walls().empty() || !box().periodic(0) || !box().periodic(1) || !box().periodic(2))
+    if (!fullyPeriodicWithoutWalls(*this))
         inputError("restart file: not a fully periodic box without walls, which every element test runs in");
     solid_ = 0;
     for (double r : particles().r) solid_ += 4.0 / 3.0 * std::numbers::pi * r * r * r;
