@@ -541,9 +541,7 @@ void DPMBase::reportNonFinite() {
     long first = 0;
     while (first < n && particleStateIsFinite(P, first)) ++first;
     // finite values whose squares overflow (a speed beyond 1e154 m/s, e.g. from an edited restart)
-    const bool overflow = first < n && std::isfinite(P.x[first].x + P.x[first].y + P.x[first].z + P.v[first].x +
-                                                     P.v[first].y + P.v[first].z + P.w[first].x + P.w[first].y +
-                                                     P.w[first].z);
+    const bool overflow = first < n && isFinite(P.x[first]) && isFinite(P.v[first]) && isFinite(P.w[first]);
     std::string where = lastFiniteRestartTime_ >= 0
                             ? "; last finite state (t = " + fmt(lastFiniteRestartTime_) + " s) is in " + outputPath(".restart")
                             : "";
